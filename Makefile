@@ -1,0 +1,60 @@
+# rtabmap_ros: the two commands a user needs, and the ones developers use.
+#   make demo    build, then run the demo (see README)
+#   make test    build, then every test; last line "N passed, N failed, N skipped"
+#   make build   install missing Debian packages, build the catkin workspace under build/
+#   make bench   build, then the benchmarks (long; never part of make test)
+#   make clean   remove build/
+SHELL := /bin/bash
+.SHELLFLAGS := -eo pipefail -c
+.DEFAULT_GOAL := build
+.PHONY: build deps configure test demo bench clean
+
+ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+BUILD := $(ROOT)/build
+WS := $(BUILD)/ws
+JOBS ?= 2
+# Debian's catkin needs the system python (the pyenv python3 on PATH lacks catkin_pkg).
+export PATH := /usr/bin:/bin:$(PATH)
+export ROS_HOME := $(BUILD)/ros_home
+export ROS_LOG_DIR := $(BUILD)/ros_home/log
+CCACHE := $(shell command -v ccache 2>/dev/null)
+CMAKE_ARGS := -DCMAKE_BUILD_TYPE=Release \
+  -DCATKIN_DEVEL_PREFIX=$(WS)/devel -DCMAKE_INSTALL_PREFIX=$(WS)/install \
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \
+  $(if $(CCACHE),-DCMAKE_CXX_COMPILER_LAUNCHER=$(CCACHE) -DCMAKE_C_COMPILER_LAUNCHER=$(CCACHE))
+IN_WS := source $(WS)/devel/setup.bash &&
+
+deps:
+	@$(ROOT)/tools/build/install-deps.sh
+
+# A catkin workspace under build/ whose source space links this repository. The source space is
+# the hidden build/ws/.src: roslaunch finds scripts by walking the package folder following
+# symlinks and prunes only dot-folders, so a visible link back to the repo would loop forever.
+SRC := $(WS)/.src
+$(SRC)/CMakeLists.txt:
+	mkdir -p $(SRC)
+	ln -sfn ../../.. $(SRC)/rtabmap_ros
+	ln -sfn /usr/share/catkin/cmake/toplevel.cmake $(SRC)/CMakeLists.txt
+
+configure: deps $(SRC)/CMakeLists.txt
+	@if [ ! -f $(WS)/build/CMakeCache.txt ]; then \
+	  cmake -S $(SRC) -B $(WS)/build $(CMAKE_ARGS); fi
+
+build: configure
+	cmake --build $(WS)/build -- -j$(JOBS)
+	@mkdir -p $(BUILD)/bin
+	@for f in $(WS)/devel/lib/rtabmap_ros/rtabmap-* $(WS)/devel/lib/rtabmap_ros/bench-*; do \
+	  [ -x "$$f" ] && ln -sfn "$$f" $(BUILD)/bin/; done; true
+	@echo "Built. Tools are in build/bin/; source build/ws/devel/setup.bash for roslaunch/rosrun."
+
+test: build
+	@$(ROOT)/tools/build/run-tests.sh $(WS) $(JOBS)
+
+demo: build
+	@$(IN_WS) $(ROOT)/tools/build/run-demo.sh $(WS)
+
+bench: build
+	@$(ROOT)/tools/build/run-bench.sh $(BUILD)/bin
+
+clean:
+	rm -rf $(BUILD)

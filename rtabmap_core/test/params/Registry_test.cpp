@@ -1,0 +1,148 @@
+// The declarations themselves: every default valid, keys unique and well formed, the defaults
+// the foundation issue fixes, and generated constants in agreement with the registry.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <set>
+
+#include "rtabmap_core/params/Parameters.h"
+
+namespace rtabmap {
+namespace {
+
+TEST(ParameterRegistry, EveryDefaultValidatesAgainstItsOwnDeclaration) {
+  ASSERT_GT(Parameters::all().size(), 250u);
+  for (const ParameterInfo& parameter : Parameters::all()) {
+    std::string why;
+    EXPECT_TRUE(Parameters::isValid(parameter.key, parameter.defaultValue, &why))
+        << parameter.key << ": " << why;
+  }
+}
+
+TEST(ParameterRegistry, KeysAreUniqueSortedAndInGroupNameForm) {
+  std::set<std::string> seen;
+  std::string previous;
+  for (const ParameterInfo& parameter : Parameters::all()) {
+    EXPECT_TRUE(seen.insert(parameter.key).second) << "duplicate key " << parameter.key;
+    EXPECT_LT(previous, parameter.key) << "registry not sorted at " << parameter.key;
+    previous = parameter.key;
+    EXPECT_EQ(parameter.key, parameter.group + "/" + parameter.name);
+    ASSERT_FALSE(parameter.group.empty()) << parameter.key;
+    ASSERT_FALSE(parameter.name.empty()) << parameter.key;
+    EXPECT_EQ(parameter.key.find('/'), parameter.group.size()) << "one slash only: " << parameter.key;
+    EXPECT_EQ(parameter.key.find_first_of(" \t=;\\"), std::string::npos) << parameter.key;
+  }
+}
+
+TEST(ParameterRegistry, EveryParameterHasAOneLineDescription) {
+  for (const ParameterInfo& parameter : Parameters::all()) {
+    EXPECT_GE(parameter.description.size(), 10u) << parameter.key;
+    EXPECT_EQ(parameter.description.find('\n'), std::string::npos) << parameter.key;
+  }
+}
+
+TEST(ParameterRegistry, EnumerationDefaultsAreAmongTheirChoices) {
+  for (const ParameterInfo& parameter : Parameters::all()) {
+    if (parameter.limits.choices.empty()) continue;
+    bool found = false;
+    for (const ParameterChoice& choice : parameter.limits.choices) {
+      found = found || choice.value == parameter.defaultValue;
+      EXPECT_FALSE(choice.meaning.empty()) << parameter.key << " choice " << choice.value;
+    }
+    EXPECT_TRUE(found) << parameter.key << " default " << parameter.defaultValue;
+  }
+}
+
+TEST(ParameterRegistry, TheIssuesRequiredDefaultsHoldExactly) {
+  const ParametersMap required = {
+      {"Rtabmap/DetectionRate", "1"},      {"Rtabmap/TimeThr", "0"},
+      {"Rtabmap/MemoryThr", "0"},          {"Rtabmap/LoopThr", "0.11"},
+      {"Rtabmap/MaxRetrieved", "2"},       {"Mem/STMSize", "10"},
+      {"Mem/RehearsalSimilarity", "0.6"},  {"Mem/RecentWmRatio", "0.2"},
+      {"Mem/IncrementalMemory", "true"},   {"Mem/InitWMWithAllNodes", "false"},
+      {"Kp/MaxFeatures", "500"},           {"Kp/NndrRatio", "0.8"},
+      {"Kp/BadSignRatio", "0.5"},          {"Kp/TfIdfLikelihoodUsed", "true"},
+      {"Vis/MinInliers", "20"},            {"Vis/CorNNDR", "0.8"},
+      {"Vis/MaxFeatures", "1000"},         {"Vis/CorGuessWinSize", "40"},
+      {"Reg/Strategy", "0"},               {"Reg/Force3DoF", "false"},
+      {"RGBD/OptimizeMaxError", "3"},      {"RGBD/ProximityMaxGraphDepth", "50"},
+      {"RGBD/ProximityBySpace", "true"},   {"RGBD/NeighborLinkRefining", "false"},
+      {"RGBD/LinearUpdate", "0.1"},        {"RGBD/AngularUpdate", "0.1"},
+      {"Odom/Strategy", "0"},              {"Odom/KeyFrameThr", "0.3"},
+      {"OdomF2M/MaxSize", "2000"},         {"Grid/CellSize", "0.05"},
+      {"Grid/RangeMax", "5"},              {"Grid/RayTracing", "false"},
+      {"Optimizer/Iterations", "20"},      {"Icp/VoxelSize", "0.05"},
+      {"Icp/Iterations", "30"},            {"Icp/CorrespondenceRatio", "0.1"},
+  };
+  for (const auto& [key, value] : required) {
+    EXPECT_EQ(Parameters::defaults().at(key), value) << key;
+  }
+  for (const char* key : {"Grid/3D", "Icp/MaxCorrespondenceDistance", "Icp/PointToPlane"}) {
+    EXPECT_TRUE(Parameters::isDeclared(key)) << key;
+  }
+  EXPECT_EQ(Parameters::info("Odom/Strategy").limits.choices.at(0).meaning, "Frame-to-Map (F2M)");
+  EXPECT_EQ(Parameters::defaults().at("Bayes/PredictionLC"),
+            "0.1 0.36 0.30 0.16 0.062 0.0151 0.00255 0.000324 2.5e-05 1.3e-06 4.8e-08 1.2e-09 "
+            "1.9e-11 2.2e-13 1.7e-15 8.5e-18 2.9e-20 6.9e-23");
+}
+
+TEST(ParameterRegistry, CoversTheGroupsOfTheFoundationIssue) {
+  const std::vector<std::string> groups = Parameters::groups();
+  for (const char* group : {"Rtabmap", "Mem", "Kp", "Vis", "Reg", "Icp", "Odom", "OdomF2M", "RGBD",
+                            "Grid", "GridGlobal", "Optimizer", "Bayes", "Db"}) {
+    EXPECT_NE(std::find(groups.begin(), groups.end(), group), groups.end()) << group;
+  }
+}
+
+TEST(ParameterRegistry, GeneratedKeyConstantsAndTypedDefaultsAgreeWithTheTable) {
+  EXPECT_EQ(Parameters::kRtabmapDetectionRate(), "Rtabmap/DetectionRate");
+  EXPECT_EQ(Parameters::kGrid3D(), "Grid/3D");
+  EXPECT_EQ(Parameters::kDbSqlite3JournalMode(), "DbSqlite3/JournalMode");
+  EXPECT_FLOAT_EQ(Parameters::defaultRtabmapLoopThr(), 0.11f);
+  EXPECT_EQ(Parameters::defaultKpMaxFeatures(), 500);
+  EXPECT_TRUE(Parameters::defaultMemIncrementalMemory());
+  EXPECT_EQ(Parameters::defaultKpRoiRatios(), "0.0 0.0 0.0 0.0");
+  EXPECT_DOUBLE_EQ(Parameters::defaultOptimizerEpsilon(), 1e-6);
+  EXPECT_EQ(Parameters::info(Parameters::kOptimizerEpsilon()).defaultValue, "1e-06");
+  EXPECT_EQ(Parameters::info(Parameters::kGridCellSize()).type, ParameterType::kFloat);
+  EXPECT_EQ(Parameters::info(Parameters::kGFTTMinDistance()).type, ParameterType::kDouble);
+  EXPECT_EQ(Parameters::info(Parameters::kMemSTMSize()).type, ParameterType::kInt);
+  EXPECT_EQ(Parameters::info(Parameters::kRGBDEnabled()).type, ParameterType::kBool);
+  EXPECT_EQ(Parameters::info(Parameters::kBayesPredictionLC()).type, ParameterType::kString);
+}
+
+TEST(ParameterRegistry, DefaultsMapHoldsEveryKey) {
+  EXPECT_EQ(Parameters::defaults().size(), Parameters::all().size());
+  for (const ParameterInfo& parameter : Parameters::all()) {
+    EXPECT_EQ(Parameters::defaults().at(parameter.key), parameter.defaultValue);
+    EXPECT_EQ(Parameters::find(parameter.key), &parameter);
+  }
+  EXPECT_EQ(Parameters::find("Rtabmap/Nope"), nullptr);
+}
+
+TEST(ParameterRegistry, OnlyImplementedBackEndsAreAccepted) {
+  EXPECT_EQ(Parameters::defaults().at("Optimizer/Strategy"), "3");
+  EXPECT_TRUE(Parameters::isValid("Optimizer/Strategy", "3"));
+  std::string why;
+  EXPECT_FALSE(Parameters::isValid("Optimizer/Strategy", "1", &why));  // g2o: not here
+  EXPECT_NE(why.find("3 (Ceres)"), std::string::npos) << why;
+  EXPECT_FALSE(Parameters::isValid("Kp/DetectorStrategy", "0"));  // SURF: no xfeatures2d
+  EXPECT_TRUE(Parameters::isValid("Kp/DetectorStrategy", "8"));
+}
+
+TEST(ParameterExpectation, DescribesTypeAndRangeInWords) {
+  EXPECT_EQ(Parameters::info("Mem/RehearsalSimilarity").expectation(), "a float in [0, 1]");
+  EXPECT_EQ(Parameters::info("Grid/CellSize").expectation(), "a float > 0");
+  EXPECT_EQ(Parameters::info("Mem/STMSize").expectation(), "an int >= 0");
+  EXPECT_EQ(Parameters::info("RGBD/Enabled").expectation(), "a bool (true, false, 1 or 0)");
+  EXPECT_EQ(Parameters::info("Reg/Strategy").expectation(),
+            "one of 0 (visual), 1 (ICP), 2 (visual then ICP)");
+  EXPECT_EQ(Parameters::info("Kp/RoiRatios").expectation(),
+            "4 numbers separated by spaces, each in [0, 1]");
+  EXPECT_EQ(Parameters::info("Mem/ImageCompressionFormat").expectation(),
+            "one of \".jpg\" (JPEG, lossy and small), \".png\" (PNG, lossless)");
+  EXPECT_EQ(Parameters::info("Rtabmap/WorkingDirectory").expectation(), "text");
+}
+
+}  // namespace
+}  // namespace rtabmap
