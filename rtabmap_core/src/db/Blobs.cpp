@@ -129,12 +129,15 @@ void decodeCalibration(const unsigned char* data, size_t size, std::vector<Camer
 }
 
 Bytes encodeScanInfo(const SensorData::ScanInfo& info) {
-  ByteWriter w(4 + 4 + 8 + 8 + 96);
+  ByteWriter w(4 + 4 + 8 + 8 + 96 + 24);
   w.put<int32_t>(static_cast<int32_t>(info.format));
   w.put<int32_t>(info.maxPoints);
   w.put<double>(info.rangeMin);
   w.put<double>(info.rangeMax);
   putTransform(w, info.localTransform.isNull() ? Transform::Identity() : info.localTransform);
+  w.put<double>(info.angleMin);
+  w.put<double>(info.angleMax);
+  w.put<double>(info.angleIncrement);
   return w.take();
 }
 
@@ -151,6 +154,12 @@ SensorData::ScanInfo decodeScanInfo(const unsigned char* data, size_t size) {
   info.rangeMin = r.get<double>();
   info.rangeMax = r.get<double>();
   info.localTransform = getTransform(r);
+  // The beam geometry was appended to the blob: a blob without it is a scan of unknown beams.
+  if (size == 4 + 4 + 8 + 8 + 96 + 24) {
+    info.angleMin = r.get<double>();
+    info.angleMax = r.get<double>();
+    info.angleIncrement = r.get<double>();
+  }
   r.expectEnd();
   return info;
 }

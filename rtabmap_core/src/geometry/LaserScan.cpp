@@ -3,6 +3,7 @@
 #include <opencv2/core.hpp>
 
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <stdexcept>
 
@@ -88,8 +89,44 @@ LaserScan LaserScan::fromRanges(const std::vector<float>& ranges, double angleMi
     ++n;
   }
   cv::Mat points = n > 0 ? cv::Mat(data.colRange(0, n)).clone() : cv::Mat();
-  return LaserScan(points, static_cast<int>(ranges.size()), rangeMin, rangeMax, format,
-                   localTransform);
+  LaserScan scan(points, static_cast<int>(ranges.size()), rangeMin, rangeMax, format, localTransform);
+  if (!ranges.empty() && angleIncrement != 0.0) {
+    scan.setBeamGeometry(angleMin, angleMin + angleIncrement * static_cast<double>(ranges.size() - 1),
+                         angleIncrement);
+  }
+  return scan;
+}
+
+void LaserScan::setBeamGeometry(double angleMin, double angleMax, double angleIncrement) {
+  if (!std::isfinite(angleMin) || !std::isfinite(angleMax) || !std::isfinite(angleIncrement) ||
+      (angleIncrement != 0.0 && (angleMax - angleMin) / angleIncrement < 0.0)) {
+    throw FormatError("LaserScan: invalid beam geometry (angle_min " + std::to_string(angleMin) +
+                      ", angle_max " + std::to_string(angleMax) + ", increment " +
+                      std::to_string(angleIncrement) + ")");
+  }
+  angleMin_ = angleMin;
+  angleMax_ = angleMax;
+  angleIncrement_ = angleIncrement;
+}
+
+std::vector<float> LaserScan::toRanges() const {
+  if (!hasBeamGeometry() || !is2d()) return {};
+  const int beams = static_cast<int>(std::lround((angleMax_ - angleMin_) / angleIncrement_)) + 1;
+  std::vector<float> ranges(static_cast<size_t>(std::max(beams, 0)),
+                            std::numeric_limits<float>::infinity());
+  for (int i = 0; i < size(); ++i) {
+    const float* p = data_.ptr<float>(0) + static_cast<size_t>(i) * data_.channels();
+    const double a = std::atan2(p[1], p[0]);
+    // Beam index of this point's bearing, unwrapping so a scan crossing +-pi maps correctly.
+    double k = (a - angleMin_) / angleIncrement_;
+    const double turn = 2.0 * M_PI / std::abs(angleIncrement_);
+    while (k < -0.5) k += turn;
+    while (k > beams - 0.5 + 1e-9 && k - turn >= -0.5) k -= turn;
+    const long idx = std::lround(k);
+    if (idx < 0 || idx >= beams) continue;
+    ranges[static_cast<size_t>(idx)] = std::hypot(p[0], p[1]);
+  }
+  return ranges;
 }
 
 int LaserScan::channels(Format format) {
@@ -170,6 +207,7 @@ Eigen::Vector3f LaserScan::point(int i) const {
 LaserScan LaserScan::transformedToBase() const {
   LaserScan out = *this;
   out.localTransform_ = Transform::Identity();
+  out.angleMin_ = out.angleMax_ = out.angleIncrement_ = 0.0;
   if (data_.empty() || localTransform_.isNull() || localTransform_.isIdentity(0.0)) {
     out.data_ = data_.clone();
     return out;

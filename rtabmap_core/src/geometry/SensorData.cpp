@@ -152,6 +152,9 @@ SensorData::ScanInfo SensorData::laserScanInfo() const {
   info.rangeMin = laserScanRaw_.rangeMin();
   info.rangeMax = laserScanRaw_.rangeMax();
   info.localTransform = laserScanRaw_.localTransform();
+  info.angleMin = laserScanRaw_.angleMin();
+  info.angleMax = laserScanRaw_.angleMax();
+  info.angleIncrement = laserScanRaw_.angleIncrement();
   return info;
 }
 
@@ -185,6 +188,9 @@ void SensorData::uncompress(bool image, bool depthOrRight, bool scan, bool userD
     // The LaserScan constructor checks the channel count against the stored format.
     laserScanRaw_ = LaserScan(points, scanInfo_.maxPoints, scanInfo_.rangeMin, scanInfo_.rangeMax,
                               scanInfo_.format, scanInfo_.localTransform);
+    if (scanInfo_.angleIncrement != 0.0) {
+      laserScanRaw_.setBeamGeometry(scanInfo_.angleMin, scanInfo_.angleMax, scanInfo_.angleIncrement);
+    }
   }
   if (userData && userDataRaw_.empty() && !userDataCompressed_.empty()) {
     userDataRaw_ = codec::uncompressData(userDataCompressed_);

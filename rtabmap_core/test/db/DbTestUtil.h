@@ -81,6 +81,9 @@ inline Signature makeNode(int id, int mapId, int words = 40) {
   scanInfo.rangeMin = 0.1;
   scanInfo.rangeMax = 30.0;
   scanInfo.localTransform = Transform(0.2, 0.0, 0.3, 0.0, 0.0, 0.0);
+  scanInfo.angleMin = -2.0;
+  scanInfo.angleMax = 2.0;
+  scanInfo.angleIncrement = 4.0 / 359.0;
   data.setLaserScanInfo(scanInfo);
   LocalGrid grid;
   grid.ground = randomMat(1, 30, CV_32FC2, static_cast<unsigned>(id) + 4);
@@ -175,6 +178,9 @@ inline void expectSameNode(const Signature& e, const Signature& a) {
   EXPECT_EQ(d.laserScanInfo().rangeMin, b.laserScanInfo().rangeMin);
   EXPECT_EQ(d.laserScanInfo().rangeMax, b.laserScanInfo().rangeMax);
   EXPECT_EQ(d.laserScanInfo().localTransform, b.laserScanInfo().localTransform);
+  EXPECT_EQ(d.laserScanInfo().angleMin, b.laserScanInfo().angleMin);
+  EXPECT_EQ(d.laserScanInfo().angleMax, b.laserScanInfo().angleMax);
+  EXPECT_EQ(d.laserScanInfo().angleIncrement, b.laserScanInfo().angleIncrement);
   EXPECT_TRUE(sameMat(d.localGrid().ground, b.localGrid().ground));
   EXPECT_TRUE(sameMat(d.localGrid().obstacles, b.localGrid().obstacles));
   EXPECT_TRUE(sameMat(d.localGrid().empty, b.localGrid().empty));

@@ -7,9 +7,11 @@
 #include <limits>
 
 #include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/geometry/SensorData.h"
 
 using rtabmap::FormatError;
 using rtabmap::LaserScan;
+using rtabmap::SensorData;
 using rtabmap::Transform;
 
 namespace {
@@ -219,4 +221,42 @@ TEST(LaserScan, Filtered) {
   EXPECT_EQ(f2.point(0).x(), 3.0f);
   EXPECT_TRUE(LaserScan(xy, 3, 0, 0, LaserScan::kXY).filtered(100, 0).empty());
   EXPECT_TRUE(LaserScan().filtered(1, 2, 3).empty());
+}
+
+// The beam geometry of a planar scan survives fromRanges -> toRanges (no-return beams come
+// back as +Inf), compression through SensorData, and is dropped in the base frame.
+TEST(LaserScan, BeamGeometryRoundTrip) {
+  const double angleMin = -M_PI * 3.0 / 4.0;
+  const double inc = (M_PI * 1.5) / 682.0;  // URG-04LX: 683 beams over 270 degrees
+  std::vector<float> ranges(683);
+  for (size_t i = 0; i < ranges.size(); ++i) ranges[i] = 0.5f + 0.004f * static_cast<float>(i);
+  ranges[0] = std::numeric_limits<float>::quiet_NaN();        // no return
+  ranges[100] = std::numeric_limits<float>::infinity();       // no return
+  ranges[682] = 40.0f;                                         // beyond rangeMax: dropped
+  const LaserScan scan = LaserScan::fromRanges(ranges, angleMin, inc, 0.02, 5.6);
+  ASSERT_TRUE(scan.hasBeamGeometry());
+  EXPECT_DOUBLE_EQ(scan.angleMin(), angleMin);
+  EXPECT_NEAR(scan.angleMax(), angleMin + inc * 682, 1e-12);
+  EXPECT_EQ(scan.size(), 680);
+
+  const std::vector<float> back = scan.toRanges();
+  ASSERT_EQ(back.size(), ranges.size());
+  for (size_t i = 0; i < back.size(); ++i) {
+    if (i == 0 || i == 100 || i == 682) {
+      EXPECT_TRUE(std::isinf(back[i])) << "beam " << i;
+    } else {
+      EXPECT_NEAR(back[i], ranges[i], 1e-5) << "beam " << i;
+    }
+  }
+
+  SensorData data(scan, 1, 0.0);
+  data.compress();
+  data.clearRaw();
+  data.uncompress();
+  EXPECT_EQ(data.laserScanRaw().angleIncrement(), inc);
+  EXPECT_EQ(data.laserScanRaw().toRanges().size(), ranges.size());
+
+  EXPECT_FALSE(scan.transformedToBase().hasBeamGeometry());
+  EXPECT_TRUE(LaserScan().toRanges().empty());
+  EXPECT_THROW(LaserScan().setBeamGeometry(1.0, 0.0, 0.1), FormatError);
 }

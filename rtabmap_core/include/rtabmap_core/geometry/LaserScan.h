@@ -70,10 +70,23 @@ class LaserScan {
   bool hasIntensity() const { return hasIntensity(format_); }
   bool hasRGB() const { return hasRGB(format_); }
 
+  // Beam geometry of a planar scan from a rotating sensor (sensor_msgs/LaserScan): angle of
+  // beam 0, of the last beam, and the increment, in the sensor frame. It tells which beams
+  // returned nothing (no point at their angle), which the 2D grid ray-traces as free space up
+  // to rangeMax and the rosbag converter writes back as +Inf ranges. Unknown (increment 0) for
+  // 3D clouds and scans built from points.
+  bool hasBeamGeometry() const { return angleIncrement_ != 0.0; }
+  double angleMin() const { return angleMin_; }
+  double angleMax() const { return angleMax_; }
+  double angleIncrement() const { return angleIncrement_; }
+  void setBeamGeometry(double angleMin, double angleMax, double angleIncrement);
+  // Ranges per beam (sensor frame), +Inf where a beam has no point; empty without geometry.
+  std::vector<float> toRanges() const;
+
   // Point i in the sensor frame (z = 0 for 2D formats).
   Eigen::Vector3f point(int i) const;
   // All points transformed by localTransform (sensor -> base frame), same format, identity
-  // local transform. Points and normals are rotated (points also translated); intensity and
+  // local transform. The beam geometry is dropped (it describes the sensor frame). Points and normals are rotated (points also translated); intensity and
   // rgb are untouched. A 2D format keeps no z: a planar scan stays in the base's plane.
   LaserScan transformedToBase() const;
   // Keeps only points with range in [rangeMin, rangeMax] from the sensor origin (0 = no limit)
@@ -89,6 +102,9 @@ class LaserScan {
   double rangeMin_;
   double rangeMax_;
   Transform localTransform_;
+  double angleMin_ = 0.0;
+  double angleMax_ = 0.0;
+  double angleIncrement_ = 0.0;
 };
 
 }  // namespace rtabmap

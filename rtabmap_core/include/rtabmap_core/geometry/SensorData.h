@@ -128,6 +128,9 @@ class SensorData {
     double rangeMin = 0.0;
     double rangeMax = 0.0;
     Transform localTransform = Transform::Identity();
+    double angleMin = 0.0;        // beam geometry of planar scans (LaserScan::angleMin...)
+    double angleMax = 0.0;
+    double angleIncrement = 0.0;  // 0 = unknown
   };
   ScanInfo laserScanInfo() const;
   void setLaserScanInfo(const ScanInfo& info) { scanInfo_ = info; }
