@@ -1,0 +1,60 @@
+#pragma once
+// The relation-based SLAM metric of Kuemmerle et al., "On measuring the accuracy of SLAM
+// algorithms" (Autonomous Robots 27(4), 2009), used for the Freiburg / Radish datasets (ACES,
+// Intel, ...): the estimate is judged only on relative poses between pairs of instants that a
+// human checked (the relations), so no global ground truth is needed.
+//
+// For a relation (t1, t2, delta*) and the estimated poses x1, x2 at t1 and t2, the estimated
+// relative pose is delta = x1^-1 x2 (x2 in the frame of x1) and the error is
+// e = delta*^-1 delta (the paper's delta (-) delta*). Its translational part is |t(e)|
+// (metres), its rotational part the angle of R(e) (degrees; for planar motion, the absolute
+// yaw difference). The paper reports the mean and standard deviation of each ("absolute"
+// errors), and the mean of their squares (its epsilon).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "rtabmap_core/eval/Trajectory.h"
+#include "rtabmap_core/eval/TrajectoryError.h"
+#include "rtabmap_core/geometry/Transform.h"
+
+namespace rtabmap {
+
+struct Relation {
+  double stamp1 = 0.0;
+  double stamp2 = 0.0;
+  Transform pose;  // pose at stamp2 in the frame of the pose at stamp1
+  int line = 0;    // line in the relations file (0 if not from a file)
+};
+
+// Reads a relations file: one relation per line, `t1 t2 x y z roll pitch yaw` (metres,
+// radians; 2D logs use x, y and yaw). Blank lines and '#' comments are skipped. Throws
+// FormatError "file:line: ..." on a malformed line, or when the file is missing or empty.
+std::vector<Relation> readRelations(const std::string& path);
+
+struct RelationOptions {
+  // A relation stamp matches an estimated pose whose stamp is within this many seconds (the
+  // nearest one). The metric needs a pose at every relation stamp: a SLAM run must output one
+  // per input scan (see ../shared/data/README.md).
+  double maxTimeDifference = 1e-3;
+};
+
+struct RelationResult {
+  size_t relations = 0;  // in the input
+  size_t used = 0;       // with estimated poses at both stamps
+  size_t skipped = 0;    // without
+  ErrorStats translation;  // metres
+  ErrorStats rotation;     // degrees
+  double translationSquaredMean = 0.0;  // m^2, the paper's epsilon_trans
+  double rotationSquaredMean = 0.0;     // deg^2
+  std::vector<double> translationErrors;  // per used relation, in input order
+  std::vector<double> rotationErrors;     // degrees
+  std::vector<size_t> skippedRelations;   // indices in the input of the skipped ones
+};
+// Throws FormatError when not a single relation can be used (with the stamp ranges of both,
+// to show a clock mismatch).
+RelationResult computeRelationError(const Trajectory& estimate,
+                                    const std::vector<Relation>& relations,
+                                    const RelationOptions& options = {});
+
+}  // namespace rtabmap

@@ -1,0 +1,145 @@
+// Loop-closure precision / recall on a small hand-made case.
+#include "rtabmap_core/eval/LoopClosureEval.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "common/TestData.h"
+#include "eval/EvalTestUtil.h"
+#include "rtabmap_core/common/Error.h"
+
+using rtabmap::FormatError;
+using rtabmap::LoopDetection;
+using rtabmap::LoopGroundTruth;
+using rtabmap::Transform;
+using rtabmap::test::TempDir;
+using rtabmap::test::writeText;
+
+namespace {
+
+// 10 images; 6..8 revisit 1..3 and 10 revisits 5; 9 is new.
+cv::Mat groundTruthMatrix() {
+  cv::Mat m = cv::Mat::zeros(10, 10, CV_8UC1);
+  m.at<uint8_t>(5, 0) = 255;
+  m.at<uint8_t>(6, 1) = 255;
+  m.at<uint8_t>(7, 2) = 255;
+  m.at<uint8_t>(9, 4) = 255;
+  return m;
+}
+
+const char* kDetections =
+    "# query matched confidence\n"
+    "1 0 0\n2 0 0\n3 0 0\n4 0 0\n5 0 0\n"
+    "6 1 0.9\n"   // true
+    "7 2 0.8\n"   // true
+    "8 4 0.7\n"   // false: 8 revisits 3, not 4
+    "9 3 0.6\n"   // false: 9 is a new place
+    "10 5 0.5\n";  // true
+
+}  // namespace
+
+TEST(LoopClosurePR, ByHand) {
+  TempDir dir;
+  writeText(dir.file("d.txt"), kDetections);
+  const auto detections = rtabmap::readLoopDetections(dir.file("d.txt"));
+  ASSERT_EQ(detections.size(), 10u);
+  const LoopGroundTruth gt = LoopGroundTruth::fromMatrix(groundTruthMatrix());
+  EXPECT_EQ(gt.size(), 10);
+  EXPECT_EQ(gt.positives(), 4u);
+  EXPECT_TRUE(gt.isLoop(6, 1));
+  EXPECT_TRUE(gt.isLoop(1, 6));  // read symmetrically
+  EXPECT_FALSE(gt.isLoop(8, 4));
+  EXPECT_TRUE(gt.hasLoopWithEarlier(10));
+  EXPECT_FALSE(gt.hasLoopWithEarlier(1));
+
+  auto r = rtabmap::computeLoopClosurePR(detections, gt);
+  EXPECT_EQ(r.queries, 10u);
+  EXPECT_EQ(r.positives, 4u);
+  EXPECT_EQ(r.detections, 5u);
+  EXPECT_EQ(r.truePositives, 3u);
+  EXPECT_EQ(r.falsePositives, 2u);
+  EXPECT_EQ(r.falseNegatives, 1u);  // image 8
+  EXPECT_DOUBLE_EQ(r.precision, 0.6);
+  EXPECT_DOUBLE_EQ(r.recall, 0.75);
+  // Sweep: 0.9 -> 1/4, 0.8 -> 2/4 (still no false positive), 0.7 -> first false positive.
+  EXPECT_DOUBLE_EQ(r.recallAt100Precision, 0.5);
+  EXPECT_DOUBLE_EQ(r.thresholdAt100Precision, 0.8);
+  ASSERT_EQ(r.curve.size(), 5u);
+  EXPECT_DOUBLE_EQ(r.curve[2].precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(r.curve[4].recall, 0.75);
+
+  r = rtabmap::computeLoopClosurePR(detections, gt, 0.75);
+  EXPECT_EQ(r.truePositives, 2u);
+  EXPECT_EQ(r.falsePositives, 0u);
+  EXPECT_DOUBLE_EQ(r.precision, 1.0);
+  EXPECT_DOUBLE_EQ(r.recall, 0.5);
+
+  // The most confident detection wrong: no recall at 100% precision.
+  std::vector<LoopDetection> wrongFirst = detections;
+  wrongFirst[8].confidence = 0.95;  // 9 -> 3
+  r = rtabmap::computeLoopClosurePR(wrongFirst, gt);
+  EXPECT_DOUBLE_EQ(r.recallAt100Precision, 0.0);
+  EXPECT_TRUE(std::isinf(r.thresholdAt100Precision));
+}
+
+TEST(LoopClosurePR, MatrixAsImageOrTextAndFromPoses) {
+  TempDir dir;
+  cv::imwrite(dir.file("gt.png"), groundTruthMatrix());
+  LoopGroundTruth gt = LoopGroundTruth::readMatrix(dir.file("gt.png"));
+  EXPECT_EQ(gt.positives(), 4u);
+  EXPECT_TRUE(gt.isLoop(10, 5));
+  // Text, upper triangle filled instead, commas.
+  std::string text;
+  const cv::Mat m = groundTruthMatrix().t();
+  for (int r = 0; r < m.rows; ++r) {
+    for (int c = 0; c < m.cols; ++c) text += (c ? "," : "") + std::string(m.at<uint8_t>(r, c) ? "1" : "0");
+    text += "\n";
+  }
+  writeText(dir.file("gt.txt"), text);
+  gt = LoopGroundTruth::readMatrix(dir.file("gt.txt"));
+  EXPECT_EQ(gt.positives(), 4u);
+  EXPECT_TRUE(gt.isLoop(8, 3));
+  writeText(dir.file("notsquare.txt"), "0 1\n1 0\n0 0\n");
+  EXPECT_THROW(LoopGroundTruth::readMatrix(dir.file("notsquare.txt")), FormatError);
+
+  // Poses: out along x (heading 0) over 0..5 m, then back (heading pi) over 4..0 m.
+  std::vector<Transform> poses;
+  for (int i = 0; i <= 5; ++i) poses.push_back(Transform(i, 0, 0));
+  for (int i = 4; i >= 0; --i) poses.push_back(Transform(i, 0, M_PI));
+  // Ignoring orientation: image 7 (x = 4) revisits 5 (x = 4), ... image 11 (x = 0) revisits 1.
+  gt = LoopGroundTruth::fromPoses(poses, 0.5, 0.0, 2);
+  EXPECT_EQ(gt.size(), 11);
+  EXPECT_EQ(gt.positives(), 5u);
+  EXPECT_TRUE(gt.isLoop(7, 5));
+  EXPECT_TRUE(gt.isLoop(11, 1));
+  EXPECT_FALSE(gt.isLoop(7, 6));  // 1 m apart
+  // Facing the other way, within 30 degrees only: no loop.
+  gt = LoopGroundTruth::fromPoses(poses, 0.5, 30 * M_PI / 180, 2);
+  EXPECT_EQ(gt.positives(), 0u);
+  // The minimum gap excludes neighbours: with 1.1 m, 6->5 would be a loop, not with gap 2.
+  gt = LoopGroundTruth::fromPoses(poses, 1.1, 0.0, 2);
+  EXPECT_FALSE(gt.isLoop(2, 1));
+  EXPECT_FALSE(gt.isLoop(3, 1));
+  EXPECT_TRUE(gt.isLoop(7, 4));
+}
+
+TEST(LoopClosurePR, MalformedDetections) {
+  TempDir dir;
+  writeText(dir.file("dup.txt"), "1 0 0\n2 1 0.5\n2 1 0.7\n");
+  try {
+    rtabmap::readLoopDetections(dir.file("dup.txt"));
+    ADD_FAILURE();
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("dup.txt:3:"), std::string::npos) << e.what();
+  }
+  writeText(dir.file("neg.txt"), "1 -1 0\n");
+  EXPECT_THROW(rtabmap::readLoopDetections(dir.file("neg.txt")), FormatError);
+  writeText(dir.file("two.txt"), "1 0\n2 1\n");
+  const auto d = rtabmap::readLoopDetections(dir.file("two.txt"));
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_DOUBLE_EQ(d[1].confidence, 1.0);
+}

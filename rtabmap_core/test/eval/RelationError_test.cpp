@@ -1,0 +1,97 @@
+// The Kuemmerle et al. 2009 relation metric on a hand-made example.
+#include "rtabmap_core/eval/RelationError.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/TestData.h"
+#include "eval/EvalTestUtil.h"
+#include "rtabmap_core/common/Error.h"
+
+using rtabmap::FormatError;
+using rtabmap::Relation;
+using rtabmap::Trajectory;
+using rtabmap::Transform;
+using rtabmap::test::TempDir;
+using rtabmap::test::writeText;
+
+namespace {
+
+// x1 at the origin, x2 one metre ahead turned left 90 degrees, x3 one metre further along
+// x2's heading (world +y). Relations: 1->2 exact; 2->3 claims (1, 0.1, yaw 0.05): the
+// estimate's (1, 0, 0) is 0.1 m and 0.05 rad off; 1->4 has no pose at 4 (skipped).
+Trajectory estimate() {
+  Trajectory t;
+  t.add(3.0, Transform(1, 1, M_PI / 2));  // unsorted on purpose
+  t.add(1.0, Transform(0, 0, 0));
+  t.add(2.0, Transform(1, 0, M_PI / 2));
+  return t;
+}
+
+}  // namespace
+
+TEST(RelationError, ByHand) {
+  TempDir dir;
+  writeText(dir.file("r.relations"),
+            "# t1 t2 x y z roll pitch yaw\n"
+            "1.0 2.0 1 0 0 0 0 1.5707963267948966\n"
+            "2.0 3.0 1 0.1 0 0 0 0.05\n"
+            "\n"
+            "1.0 4.0 1 0 0 0 0 0\n");
+  const std::vector<Relation> relations = rtabmap::readRelations(dir.file("r.relations"));
+  ASSERT_EQ(relations.size(), 3u);
+  EXPECT_EQ(relations[2].line, 5);
+  EXPECT_DOUBLE_EQ(relations[1].pose.theta(), 0.05);
+
+  const rtabmap::RelationResult r = rtabmap::computeRelationError(estimate(), relations);
+  EXPECT_EQ(r.relations, 3u);
+  EXPECT_EQ(r.used, 2u);
+  EXPECT_EQ(r.skipped, 1u);
+  ASSERT_EQ(r.skippedRelations.size(), 1u);
+  EXPECT_EQ(r.skippedRelations[0], 2u);
+  ASSERT_EQ(r.translationErrors.size(), 2u);
+  EXPECT_NEAR(r.translationErrors[0], 0.0, 1e-12);
+  EXPECT_NEAR(r.translationErrors[1], 0.1, 1e-12);
+  EXPECT_NEAR(r.rotationErrors[1], 0.05 * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(r.translation.mean, 0.05, 1e-12);
+  EXPECT_NEAR(r.translation.std, 0.05, 1e-12);
+  EXPECT_NEAR(r.rotation.mean, 0.025 * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(r.rotation.std, 0.025 * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(r.translationSquaredMean, 0.005, 1e-12);
+
+  // Stamps are matched within the tolerance only.
+  rtabmap::RelationOptions tight;
+  Trajectory shifted;
+  for (const auto& p : estimate().poses) shifted.add(p.stamp + 0.002, p.pose);
+  EXPECT_THROW(rtabmap::computeRelationError(shifted, relations, tight), FormatError);
+  tight.maxTimeDifference = 0.003;
+  EXPECT_EQ(rtabmap::computeRelationError(shifted, relations, tight).used, 2u);
+}
+
+TEST(RelationError, RelationsAreFrameIndependent) {
+  // The same estimate moved anywhere in the world scores the same.
+  TempDir dir;
+  writeText(dir.file("r.relations"), "1.0 2.0 1 0 0 0 0 1.5707963267948966\n2.0 3.0 1 0.1 0 0 0 0.05\n");
+  const auto relations = rtabmap::readRelations(dir.file("r.relations"));
+  Trajectory moved;
+  const Transform T(5, -3, 0.7);
+  for (const auto& p : estimate().poses) moved.add(p.stamp, T * p.pose);
+  const auto a = rtabmap::computeRelationError(estimate(), relations);
+  const auto b = rtabmap::computeRelationError(moved, relations);
+  EXPECT_NEAR(a.translation.mean, b.translation.mean, 1e-12);
+  EXPECT_NEAR(a.rotation.mean, b.rotation.mean, 1e-9);
+}
+
+TEST(RelationError, MalformedRelationsNameFileAndLine) {
+  TempDir dir;
+  writeText(dir.file("bad.relations"), "1.0 2.0 1 0 0 0 0 0\n1.0 2.0 1 0 0 0 0\n");
+  try {
+    rtabmap::readRelations(dir.file("bad.relations"));
+    ADD_FAILURE();
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.relations:2:"), std::string::npos) << e.what();
+  }
+  writeText(dir.file("empty.relations"), "# none\n");
+  EXPECT_THROW(rtabmap::readRelations(dir.file("empty.relations")), FormatError);
+}
