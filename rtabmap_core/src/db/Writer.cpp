@@ -130,20 +130,12 @@ void Writer::finishBatch(const std::vector<OperationPtr>& batch, double writeSec
   commit.ticket = batch.back()->ticket;
   commit.operations = batch.size();
   commit.writeSeconds = writeSeconds;
-  std::vector<int>& nodeIds = commit.nodeIds;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const OperationPtr& op : batch) {
-      if (const auto* save = std::get_if<SaveNodeOp>(&op->op)) {
-        nodeIds.push_back(save->node.id());
-        --queuedNodes_;
-      }
-    }
-    queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(batch.size()));
-    durableTicket_ = batch.back()->ticket;
-    if (!nodeIds.empty()) lastDurableNodeId_ = nodeIds.back();
+  // The batch stays at the head of the queue until acknowledged: only this thread removes it.
+  for (const OperationPtr& op : batch) {
+    if (const auto* save = std::get_if<SaveNodeOp>(&op->op)) commit.nodeIds.push_back(save->node.id());
   }
-  progress_.notify_all();
+  // Acknowledge before releasing flush() waiters, so a caller returning from flush() has also
+  // been told about every node it covers. Outside the lock: the callback may ask for status.
   if (config_.onCommitted) {
     try {
       config_.onCommitted(commit);
@@ -151,6 +143,14 @@ void Writer::finishBatch(const std::vector<OperationPtr>& batch, double writeSec
       RTABMAP_ERROR("long-term memory: the onCommitted callback threw: " << e.what());
     }
   }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    queuedNodes_ -= commit.nodeIds.size();
+    queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(batch.size()));
+    durableTicket_ = commit.ticket;
+    if (!commit.nodeIds.empty()) lastDurableNodeId_ = commit.nodeIds.back();
+  }
+  progress_.notify_all();
 }
 
 void Writer::failWith(const std::string& error) {

@@ -83,8 +83,9 @@ struct DatabaseOptions {
   // Parameters of the new session (the params area's serialised ParametersMap).
   std::string sessionParameters;
   // Called on the writer thread after each commit: the acknowledgement of what is now durable
-  // (node ids in save order, ticket, write time). Keep it short; it must not call save*() or
-  // flush().
+  // (node ids in save order, ticket, write time). It runs before flush() waiters covering
+  // that commit are released, so when flush() returns every covered node was acknowledged.
+  // Keep it short; it must not call save*() or flush().
   std::function<void(const CommitInfo& commit)> onCommitted;
 
   // Ceres-style validation: false and the reason in *why when a field is out of range.
