@@ -1,0 +1,126 @@
+#pragma once
+// The incremental visual vocabulary of loop-closure detection (T-RO 2013, section III-B and
+// Algorithm 2; the incremental FLANN index of the 2017/2019 papers).
+//
+// A visual word is a descriptor that stands for all the similar descriptors seen so far. A new
+// location's descriptors are quantised by nearest neighbour with the distance-ratio test
+// (Kp/NndrRatio): a descriptor whose nearest word is clearly nearer than the second nearest maps
+// to it; otherwise it becomes a new word. Each word keeps the locations that contain it (the
+// inverted index behind the TF-IDF likelihood) and how many times each does.
+//
+// The nearest-neighbour index is FLANN (Kp/NNStrategy): randomised kd-trees (4) on float
+// descriptors (binary ones are expanded to floats, per bit or, with Kp/ByteToFloat, per byte),
+// LSH on binary descriptors with the Hamming distance, or linear search. New words are added to
+// the index incrementally; it is rebuilt from the current words only when the vocabulary has
+// grown by Kp/FlannRebalancingFactor (2 = doubled) since the last build, which bounds both the
+// search-quality loss of incremental insertion and the memory of removed words.
+//
+// Memory management moves words out (removeWord, when no Working-Memory location references
+// them any more) and back (addWord, on retrieval); the vocabulary never talks to the database.
+#include <opencv2/core/mat.hpp>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "rtabmap_core/params/Parameters.h"
+
+namespace rtabmap::vocabulary {
+
+enum class NNStrategy { kLinear = 0, kKdTree = 1, kLsh = 2, kBruteForce = 3 };
+
+struct VocabularyOptions {
+  NNStrategy nnStrategy = NNStrategy::kKdTree;  // Kp/NNStrategy
+  float nndrRatio = 0.8f;                       // Kp/NndrRatio
+  bool incrementalDictionary = true;            // Kp/IncrementalDictionary
+  bool incrementalFlann = true;                 // Kp/IncrementalFlann
+  float rebalancingFactor = 2.0f;               // Kp/FlannRebalancingFactor
+  bool byteToFloat = false;                     // Kp/ByteToFloat
+  int kdTrees = 4;      // the paper's forest of four randomised kd-trees
+  int searchChecks = 64;  // leaves visited per kd-tree / LSH query (approximation vs speed)
+
+  static VocabularyOptions fromParameters(const ParametersMap& parameters);
+  bool IsValid(std::string* why = nullptr) const;
+};
+
+struct VisualWord {
+  int id = 0;
+  cv::Mat descriptor;              // one row, the descriptor that created the word
+  std::map<int, int> references;   // location id -> occurrences of the word in it
+};
+
+struct VocabularySummary {
+  int words = 0;                // words in the vocabulary (and the index)
+  int indexBuilds = 0;          // full index builds since construction
+  int lastBuildSize = 0;        // words at the last full build
+  int lastNewWords = 0;         // words created by the last quantize()
+  int lastMatchedWords = 0;     // descriptors of the last quantize() that matched a word
+  double lastQuantizeMs = 0.0;  // time of the last quantize(), index update included
+};
+
+class Vocabulary {
+ public:
+  explicit Vocabulary(const VocabularyOptions& options = VocabularyOptions());
+  ~Vocabulary();
+  Vocabulary(const Vocabulary&) = delete;
+  Vocabulary& operator=(const Vocabulary&) = delete;
+
+  // Algorithm 2: the word id of each descriptor row of a new location, creating words for the
+  // descriptors that match none (only while Kp/IncrementalDictionary; a fixed vocabulary gives
+  // the nearest word). Adds the location to each word's references. Descriptors are CV_32F or
+  // CV_8U (binary) rows, all of the type and width of the vocabulary's first descriptors;
+  // throws std::invalid_argument otherwise.
+  std::vector<int> quantize(const cv::Mat& descriptors, int locationId);
+
+  // The word each descriptor row quantises to without changing anything (0 when none passes
+  // the ratio test). Used to re-quantise the words of a location retrieved from LTM.
+  std::vector<int> findWords(const cv::Mat& descriptors) const;
+
+  void addReference(int wordId, int locationId, int count = 1);
+  // Removes the location from the references of its words (words: word id -> keypoint, as in
+  // Signature::getWords()).
+  void removeReferences(int locationId, const std::multimap<int, int>& words);
+
+  // Words no location references: to move to Long-Term Memory.
+  std::vector<int> unreferencedWords() const;
+  // Takes a word out of the vocabulary and the index. Throws std::out_of_range if unknown.
+  VisualWord removeWord(int wordId);
+  // Puts back a word (retrieval from LTM) with its id and references. Throws
+  // std::invalid_argument if the id is in use or the descriptor does not fit.
+  void addWord(VisualWord word);
+  // Same for several words at once (one index update); nothing is added if one is invalid.
+  void addWords(std::vector<VisualWord> words);
+
+  const VisualWord* word(int wordId) const;
+  const std::unordered_map<int, VisualWord>& words() const { return words_; }
+  size_t size() const { return words_.size(); }
+  // Ids of new words continue after this one (restored from the database on start).
+  int lastWordId() const { return lastWordId_; }
+  void setLastWordId(int id);
+  int descriptorType() const { return descriptorType_; }  // -1 until the first descriptor
+  int descriptorWidth() const { return descriptorWidth_; }
+  const VocabularySummary& summary() const { return summary_; }
+  const VocabularyOptions& options() const { return options_; }
+
+  class Index;  // the nearest-neighbour index (FLANN), private to the implementation
+
+ private:
+  void checkDescriptors(const cv::Mat& descriptors);
+  void indexWords(const std::vector<int>& ids);
+  struct Match { int wordId = 0; float first = -1.f, second = -1.f; };
+  std::vector<Match> nearestTwo(const cv::Mat& descriptors) const;
+  bool passesRatio(const Match& m) const;
+
+  VocabularyOptions options_;
+  std::unordered_map<int, VisualWord> words_;
+  std::unique_ptr<Index> index_;
+  int lastWordId_ = 0;
+  int descriptorType_ = -1;
+  int descriptorWidth_ = 0;
+  VocabularySummary summary_;
+};
+
+}  // namespace rtabmap::vocabulary

@@ -1,0 +1,79 @@
+#include "rtabmap_core/bayes/Likelihood.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "rtabmap_core/bayes/BayesFilter.h"
+
+namespace rtabmap::bayes {
+
+std::map<int, float> adjustLikelihood(const std::map<int, float>& similarity) {
+  double sum = 0.0, sumSq = 0.0;
+  int n = 0;
+  for (const auto& [id, s] : similarity) {
+    if (id == kVirtualPlace || !(s > 0.0f)) continue;
+    sum += s;
+    sumSq += static_cast<double>(s) * s;
+    ++n;
+  }
+  const double mean = n ? sum / n : 0.0;
+  const double variance = n ? std::max(0.0, sumSq / n - mean * mean) : 0.0;
+  const double stdDev = std::sqrt(variance);
+
+  std::map<int, float> likelihood;
+  likelihood[kVirtualPlace] = stdDev > 0.0 ? static_cast<float>(mean / stdDev + 1.0) : 1.0f;
+  for (const auto& [id, s] : similarity) {
+    if (id == kVirtualPlace) continue;
+    float l = 1.0f;
+    if (mean > 0.0 && s >= mean + stdDev) l = static_cast<float>((s - stdDev) / mean);
+    // (s - sigma) / mu >= 1 whenever s >= mu + sigma; the max only guards rounding.
+    likelihood.emplace_hint(likelihood.end(), id, std::max(1.0f, l));
+  }
+  return likelihood;
+}
+
+HypothesisOptions HypothesisOptions::fromParameters(const ParametersMap& parameters) {
+  HypothesisOptions options;
+  options.loopThr = Parameters::getFloat(parameters, Parameters::kRtabmapLoopThr());
+  options.loopRatio = Parameters::getFloat(parameters, Parameters::kRtabmapLoopRatio());
+  return options;
+}
+
+bool HypothesisOptions::IsValid(std::string* why) const {
+  if (!(loopThr >= 0.0f && loopThr <= 1.0f) || !(loopRatio >= 0.0f && loopRatio <= 1.0f)) {
+    if (why) *why = Parameters::kRtabmapLoopThr() + " and " + Parameters::kRtabmapLoopRatio() + " must be in [0, 1]";
+    return false;
+  }
+  return true;
+}
+
+Hypothesis selectHypothesis(const std::map<int, float>& posterior, const HypothesisOptions& options,
+                            float previousValue) {
+  Hypothesis h;
+  for (const auto& [id, p] : posterior) {
+    // Ties go to the most recent location (largest id), like the original's reverse scan.
+    if (id > 0 && p > 0.0f && p >= h.locationValue) {
+      h.id = id;
+      h.locationValue = p;
+    }
+  }
+  if (h.id == 0) return h;
+  auto virtualPlace = posterior.find(kVirtualPlace);
+  h.value = virtualPlace == posterior.end() ? 1.0f : 1.0f - virtualPlace->second;
+  std::ostringstream why;
+  if (posterior.size() <= 2) {
+    // One candidate only: it takes all the loop-closure mass whatever it looks like.
+    why << "single hypothesis";
+  } else if (h.value < options.loopThr) {
+    why << "loop-closure probability " << h.value << " < Rtabmap/LoopThr " << options.loopThr;
+  } else if (options.loopRatio > 0.0f && h.value < options.loopRatio * previousValue) {
+    why << "loop-closure probability " << h.value << " < Rtabmap/LoopRatio " << options.loopRatio
+        << " x previous " << previousValue;
+  } else {
+    h.accepted = true;
+  }
+  h.rejectedBecause = why.str();
+  return h;
+}
+
+}  // namespace rtabmap::bayes

@@ -1,0 +1,192 @@
+#include "rtabmap_core/vocabulary/Vocabulary.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include <random>
+#include <stdexcept>
+
+namespace rtabmap::vocabulary {
+namespace {
+
+cv::Mat randomFloat(int rows, int cols, uint64_t seed) {
+  cv::Mat m(rows, cols, CV_32F);
+  cv::RNG rng(seed);
+  rng.fill(m, cv::RNG::UNIFORM, 0.f, 1.f);
+  return m;
+}
+
+cv::Mat randomBinary(int rows, int bytes, uint64_t seed) {
+  cv::Mat m(rows, bytes, CV_8U);
+  cv::RNG rng(seed);
+  rng.fill(m, cv::RNG::UNIFORM, 0, 256);
+  return m;
+}
+
+// The word a brute-force search would give with the ratio test (0 = new word).
+int bruteForceWord(const Vocabulary& v, const cv::Mat& d, float ratio) {
+  int best = 0;
+  double d1 = 1e30, d2 = 1e30;
+  for (const auto& [id, w] : v.words()) {
+    double dist = cv::norm(d, w.descriptor, d.type() == CV_8U ? cv::NORM_HAMMING : cv::NORM_L2);
+    if (dist < d1) {
+      d2 = d1;
+      d1 = dist;
+      best = id;
+    } else if (dist < d2) {
+      d2 = dist;
+    }
+  }
+  if (d1 == 0.0) return best;
+  return d2 < 1e30 && d1 <= ratio * d2 ? best : 0;
+}
+
+class VocabularyStrategies : public ::testing::TestWithParam<std::tuple<NNStrategy, int>> {};
+
+TEST_P(VocabularyStrategies, SameDescriptorsMapToTheSameWordsFarOnesMakeNewWords) {
+  const auto [strategy, type] = GetParam();
+  VocabularyOptions o;
+  o.nnStrategy = strategy;
+  Vocabulary v(o);
+  cv::Mat first = type == CV_32F ? randomFloat(200, 64, 1) : randomBinary(200, 32, 1);
+  auto ids1 = v.quantize(first, 1);
+  EXPECT_EQ(v.size(), 200u);  // random descriptors: nothing shared
+  EXPECT_EQ(v.summary().lastNewWords, 200);
+  for (int i = 0; i < 200; ++i) EXPECT_EQ(ids1[i], i + 1);
+
+  cv::Mat second;
+  cv::vconcat(first.rowRange(0, 100), type == CV_32F ? randomFloat(50, 64, 2) : randomBinary(50, 32, 2), second);
+  auto ids2 = v.quantize(second, 2);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(ids2[i], ids1[i]) << "row " << i;
+  for (int i = 100; i < 150; ++i) EXPECT_GT(ids2[i], 200) << "row " << i;
+  EXPECT_EQ(v.size(), 250u);
+  EXPECT_EQ(v.word(ids1[0])->references.at(1), 1);
+  EXPECT_EQ(v.word(ids1[0])->references.at(2), 1);
+  EXPECT_EQ(v.word(ids1[150])->references.count(2), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllIndexes, VocabularyStrategies,
+                         ::testing::Values(std::make_tuple(NNStrategy::kKdTree, CV_32F),
+                                           std::make_tuple(NNStrategy::kLinear, CV_32F),
+                                           std::make_tuple(NNStrategy::kKdTree, CV_8U),
+                                           std::make_tuple(NNStrategy::kLsh, CV_8U),
+                                           std::make_tuple(NNStrategy::kBruteForce, CV_8U)));
+
+TEST(Vocabulary, RatioTestRejectsAmbiguousMatches) {
+  Vocabulary v;
+  cv::Mat words = (cv::Mat_<float>(2, 2) << 0.f, 0.f, 1.f, 0.f);
+  v.quantize(words, 1);
+  // Half way between the two words: distance ratio 1 > 0.8, so a new word.
+  auto ambiguous = v.quantize((cv::Mat_<float>(1, 2) << 0.5f, 0.f), 2);
+  EXPECT_EQ(ambiguous[0], 3);
+  // Near the first word: 0.1 / 0.9 < 0.8, the first word.
+  auto clear = v.quantize((cv::Mat_<float>(1, 2) << 0.f, 0.1f), 3);
+  EXPECT_EQ(clear[0], 1);
+}
+
+TEST(Vocabulary, DescriptorsOfOneImageShareNewWords) {
+  Vocabulary v;
+  cv::Mat base = randomFloat(20, 16, 3);
+  v.quantize(base, 1);
+  cv::Mat fresh = randomFloat(1, 16, 4);
+  cv::Mat twice;
+  cv::vconcat(fresh, fresh, twice);
+  auto ids = v.quantize(twice, 2);
+  EXPECT_EQ(ids[0], ids[1]);  // the second copy matches the word the first one created
+  EXPECT_EQ(v.word(ids[0])->references.at(2), 2);
+}
+
+// Incremental insertion must answer queries like an index built over the same words: with
+// unlimited checks the kd-trees are exact, so both agree with brute force.
+TEST(Vocabulary, IncrementalIndexAnswersLikeARebuiltOne) {
+  VocabularyOptions incremental;
+  incremental.searchChecks = 1 << 30;
+  VocabularyOptions rebuilt = incremental;
+  rebuilt.incrementalFlann = false;
+  Vocabulary a(incremental), b(rebuilt);
+  for (int loc = 1; loc <= 12; ++loc) {
+    cv::Mat d = randomFloat(60, 32, 100 + loc);
+    a.quantize(d, loc);
+    b.quantize(d, loc);
+  }
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_LT(a.summary().indexBuilds, b.summary().indexBuilds);
+  cv::Mat queries = randomFloat(300, 32, 999);
+  // Some queries near existing words.
+  for (int i = 0; i < 100; ++i) {
+    const auto& w = a.word(1 + i * 7)->descriptor;
+    cv::Mat noise = randomFloat(1, 32, 5000 + i) * 0.01;
+    cv::Mat q = w + noise;
+    q.copyTo(queries.row(i));
+  }
+  auto fa = a.findWords(queries), fb = b.findWords(queries);
+  int matched = 0;
+  for (int i = 0; i < queries.rows; ++i) {
+    const int expected = bruteForceWord(a, queries.row(i), incremental.nndrRatio);
+    EXPECT_EQ(fa[i], expected) << "query " << i;
+    EXPECT_EQ(fb[i], expected) << "query " << i;
+    matched += expected != 0;
+  }
+  EXPECT_GE(matched, 100);
+}
+
+TEST(Vocabulary, IndexIsRebuiltWhenTheVocabularyDoubles) {
+  Vocabulary v;
+  v.quantize(randomFloat(100, 64, 1), 1);
+  ASSERT_EQ(v.size(), 100u);
+  EXPECT_EQ(v.summary().indexBuilds, 1);
+  v.quantize(randomFloat(100, 64, 2), 2);  // 200 words = 2 x 100: not more than doubled
+  ASSERT_EQ(v.size(), 200u);
+  EXPECT_EQ(v.summary().indexBuilds, 1);
+  v.quantize(randomFloat(5, 64, 3), 3);  // past the double: rebuilt over all words
+  EXPECT_EQ(v.summary().indexBuilds, 2);
+  EXPECT_EQ(v.summary().lastBuildSize, static_cast<int>(v.size()));
+}
+
+TEST(Vocabulary, WordsLeaveAndComeBackWithTheirIds) {
+  Vocabulary v;
+  cv::Mat d = randomFloat(30, 64, 7);
+  auto ids = v.quantize(d, 1);
+  std::multimap<int, int> words;
+  for (int i = 0; i < d.rows; ++i) words.emplace(ids[i], i);
+  v.removeReferences(1, words);
+  ASSERT_EQ(v.unreferencedWords().size(), 30u);
+  VisualWord out = v.removeWord(ids[5]);
+  EXPECT_EQ(out.id, ids[5]);
+  EXPECT_EQ(v.findWords(d.row(5))[0], 0);  // gone from the index too
+  EXPECT_THROW(v.removeWord(ids[5]), std::out_of_range);
+  out.references[9] = 1;
+  v.addWord(out);
+  EXPECT_EQ(v.findWords(d.row(5))[0], ids[5]);
+  EXPECT_EQ(v.word(ids[5])->references.at(9), 1);
+  EXPECT_THROW(v.addWord(out), std::invalid_argument);  // id in use
+  // New words continue after the highest id.
+  auto next = v.quantize(randomFloat(1, 64, 8), 2);
+  EXPECT_EQ(next[0], 31);
+}
+
+TEST(Vocabulary, FixedVocabularyGivesTheNearestWord) {
+  VocabularyOptions o;
+  o.incrementalDictionary = false;
+  Vocabulary v(o);
+  v.quantize((cv::Mat_<float>(2, 2) << 0.f, 0.f, 1.f, 0.f), 1);
+  auto ids = v.quantize((cv::Mat_<float>(1, 2) << 0.6f, 0.f), 2);
+  EXPECT_EQ(ids[0], 2);
+  EXPECT_EQ(v.size(), 2u);
+}
+
+TEST(Vocabulary, RejectsDescriptorsThatDoNotFit) {
+  Vocabulary v;
+  v.quantize(randomFloat(3, 8, 1), 1);
+  EXPECT_THROW(v.quantize(randomFloat(3, 9, 1), 2), std::invalid_argument);
+  EXPECT_THROW(v.quantize(randomBinary(3, 8, 1), 2), std::invalid_argument);
+  cv::Mat doubles(2, 8, CV_64F, cv::Scalar(0));
+  EXPECT_THROW(v.quantize(doubles, 2), std::invalid_argument);
+  VocabularyOptions bad;
+  bad.nndrRatio = 0.f;
+  EXPECT_FALSE(bad.IsValid());
+  EXPECT_THROW(VocabularyOptions::fromParameters({{"Kp/NndrRatio", "0"}}), std::exception);
+}
+
+}  // namespace
+}  // namespace rtabmap::vocabulary
