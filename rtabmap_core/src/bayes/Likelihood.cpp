@@ -21,14 +21,22 @@ std::map<int, float> adjustLikelihood(const std::map<int, float>& similarity) {
   const double stdDev = std::sqrt(variance);
 
   std::map<int, float> likelihood;
-  likelihood[kVirtualPlace] = stdDev > 0.0 ? static_cast<float>(mean / stdDev + 1.0) : 1.0f;
+  bool someoneStandsOut = false;
   for (const auto& [id, s] : similarity) {
     if (id == kVirtualPlace) continue;
     float l = 1.0f;
-    if (mean > 0.0 && s >= mean + stdDev) l = static_cast<float>((s - stdDev) / mean);
-    // (s - sigma) / mu >= 1 whenever s >= mu + sigma; the max only guards rounding.
-    likelihood.emplace_hint(likelihood.end(), id, std::max(1.0f, l));
+    if (mean > 0.0 && s >= mean + stdDev && stdDev > 0.0) {
+      // (s - sigma) / mu >= 1 whenever s >= mu + sigma; the max only guards rounding.
+      l = std::max(1.0f, static_cast<float>((s - stdDev) / mean));
+      someoneStandsOut = true;
+    }
+    likelihood.emplace_hint(likelihood.end(), id, l);
   }
+  // Without a location standing out there is no evidence of a loop: the new place gets twice
+  // the likelihood of any location (the original's value), which keeps the posterior of a flat
+  // likelihood from drifting to the locations: its fixed point is p(new) = 0.90, so the
+  // loop-closure probability stays at 0.098, under the default Rtabmap/LoopThr of 0.11.
+  likelihood[kVirtualPlace] = someoneStandsOut ? std::max(1.0f, static_cast<float>(mean / stdDev + 1.0)) : 2.0f;
   return likelihood;
 }
 

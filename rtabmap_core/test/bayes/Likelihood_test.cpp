@@ -21,12 +21,27 @@ TEST(AdjustLikelihood, MatchesEquationFourByHand) {
 
 TEST(AdjustLikelihood, NoInformationGivesFlatLikelihood) {
   auto l = adjustLikelihood({{1, 0.f}, {2, 0.f}});
-  EXPECT_FLOAT_EQ(l.at(kVirtualPlace), 1.f);
+  EXPECT_FLOAT_EQ(l.at(kVirtualPlace), 2.f);
   EXPECT_FLOAT_EQ(l.at(1), 1.f);
-  auto same = adjustLikelihood({{1, 2.f}, {2, 2.f}});  // sigma = 0
-  EXPECT_FLOAT_EQ(same.at(kVirtualPlace), 1.f);
-  EXPECT_FLOAT_EQ(same.at(1), 2.f / 2.f);
+  auto same = adjustLikelihood({{1, 2.f}, {2, 2.f}});  // sigma = 0: nobody stands out
+  EXPECT_FLOAT_EQ(same.at(kVirtualPlace), 2.f);
+  EXPECT_FLOAT_EQ(same.at(1), 1.f);
   EXPECT_EQ(adjustLikelihood({}).size(), 1u);
+}
+
+TEST(AdjustLikelihood, FlatLikelihoodNeverReachesTheLoopThreshold) {
+  // Many updates without evidence: the loop-closure probability settles at 0.098 < 0.11.
+  BayesFilter filter;
+  std::map<int, float> raw;
+  float loop = 0.f;
+  for (int t = 1; t <= 200; ++t) {
+    raw[t] = 0.f;
+    std::map<int, float> l = adjustLikelihood(raw);
+    const auto& post = filter.update(l, [](int id, int) { return std::map<int, int>{{id, 0}}; });
+    loop = 1.f - post.at(kVirtualPlace);
+    EXPECT_LT(loop, HypothesisOptions().loopThr) << "update " << t;
+  }
+  EXPECT_NEAR(loop, 0.098, 0.002);
 }
 
 TEST(SelectHypothesis, ValueIsTheLoopClosureMass) {

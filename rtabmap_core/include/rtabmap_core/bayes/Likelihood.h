@@ -12,7 +12,8 @@ namespace rtabmap::bayes {
 // mu and sigma are the mean and standard deviation of the non-zero scores (locations sharing no
 // word with the new one say nothing about the distribution). Then
 //   l(i) = (s_i - sigma) / mu   if s_i >= mu + sigma,   else 1;
-//   l(virtual place) = mu / sigma + 1   (1 when sigma is 0 or there is no non-zero score).
+//   l(virtual place) = mu / sigma + 1 when some location stands out (s_i >= mu + sigma,
+//   sigma > 0), else 2: no evidence of a loop (see Likelihood.cpp for why 2).
 // The result has every key of `similarity` plus kVirtualPlace.
 std::map<int, float> adjustLikelihood(const std::map<int, float>& similarity);
 

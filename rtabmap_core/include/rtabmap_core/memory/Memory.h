@@ -1,0 +1,176 @@
+#pragma once
+// Memory management of RTAB-Map (T-RO 2013, sections III-A to III-F, Algorithms 1-4): where the
+// locations live and how they move.
+//
+//   Short-Term Memory (STM): the Mem/STMSize newest locations. A new location is compared with
+//     the previous one (eq. 1); over Mem/RehearsalSimilarity they are merged and the weight grows
+//     (rehearsal). STM locations are not loop-closure candidates (they look like the present).
+//   Working Memory (WM): the candidates of loop-closure detection, in RAM.
+//   Long-Term Memory (LTM): the SQLite database. Locations move there when an update takes too
+//     long (transfer: the lowest weight, then the oldest, first) and come back when a neighbour
+//     is the highest loop-closure hypothesis (retrieval).
+//
+// The vocabulary holds the words of the locations in RAM (STM + WM) only: words without any
+// reference leave with the last location that used them and come back with it.
+//
+// Saving: a location is written to the LTM when it leaves STM (so a crash loses at most the
+// STM), again when it is transferred if it changed, and on close. Writes go through the
+// database's writer thread; Algorithm 1 joins it at the next update (Database::flush).
+#include <opencv2/core/mat.hpp>
+#include <opencv2/core/types.hpp>
+
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "rtabmap_core/geometry/SensorData.h"
+#include "rtabmap_core/geometry/Transform.h"
+#include "rtabmap_core/memory/Link.h"
+#include "rtabmap_core/memory/Signature.h"
+#include "rtabmap_core/params/Parameters.h"
+#include "rtabmap_core/vocabulary/Vocabulary.h"
+
+namespace rtabmap::db {
+class Database;
+}
+
+namespace rtabmap::memory {
+
+struct MemoryOptions {
+  int stmSize = 10;                        // Mem/STMSize
+  float rehearsalSimilarity = 0.6f;        // Mem/RehearsalSimilarity (>= 1: no merging)
+  float recentWmRatio = 0.2f;              // Mem/RecentWmRatio
+  bool transferSortingByWeightId = false;  // Mem/TransferSortingByWeightId
+  bool rehearsalIdUpdatedToNewOne = false; // Mem/RehearsalIdUpdatedToNewOne
+  bool badSignaturesIgnored = false;       // Mem/BadSignaturesIgnored
+  int maxFeatures = 500;                   // Kp/MaxFeatures (0: all; < 0: no words)
+  float badSignRatio = 0.5f;               // Kp/BadSignRatio
+  bool tfIdf = true;                       // Kp/TfIdfLikelihoodUsed
+  int maxRetrieved = 2;                    // Rtabmap/MaxRetrieved
+  // Graph range (links) of the neighbourhood of a hypothesis: the Bayes filter's transition
+  // range (Bayes/PredictionLC size - 2). Retrieval searches it.
+  int neighborhoodDepth = 16;
+  vocabulary::VocabularyOptions vocabulary;
+
+  static MemoryOptions fromParameters(const ParametersMap& parameters);
+  bool IsValid(std::string* why = nullptr) const;
+};
+
+// What a new location is made of: features already extracted from its image (Algorithm 2
+// keeps the Kp/MaxFeatures strongest by response) and the data and pose it carries.
+struct LocationInput {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;                 // one row per keypoint
+  std::vector<cv::Point3f> points3D;   // optional, one per keypoint
+  SensorData data;
+  Transform pose;                      // odometry pose (null for appearance only)
+  double stamp = 0.0;
+  int mapId = 0;
+};
+
+struct AddResult {
+  int id = 0;             // the location that now holds the new data (0: dropped bad signature)
+  bool merged = false;    // rehearsal merged it with the previous location
+  int mergedWith = 0;     // the other location of the merge (removed from memory)
+  float rehearsalSimilarity = 0.0f;
+  bool badSignature = false;
+  int words = 0;
+  int newWords = 0;
+};
+
+struct TransferResult {
+  std::vector<int> transferred;  // in transfer order
+  int wordsRemoved = 0;          // words that left the vocabulary for the LTM
+};
+
+struct MemorySummary {
+  int stmSize = 0, wmSize = 0, vocabularySize = 0, lastLocationId = 0;
+  int lastGlobalLoopClosureId = 0;
+  int transferredTotal = 0, retrievedTotal = 0;
+};
+
+class Memory {
+ public:
+  // ltm may be null: no long-term memory (transfer and retrieval then throw).
+  explicit Memory(const MemoryOptions& options, db::Database* ltm = nullptr);
+  ~Memory();
+  Memory(const Memory&) = delete;
+  Memory& operator=(const Memory&) = delete;
+
+  // Algorithm 2 + STM update (III-C): creates the location, quantises its words, links it to
+  // the previous one, merges it with it on rehearsal, moves the STM overflow to WM.
+  AddResult addLocation(const LocationInput& input);
+
+  // Raw likelihood of a location against every WM location that is not a bad signature (TF-IDF
+  // or eq. 1 per Kp/TfIdfLikelihoodUsed), through the inverted index.
+  std::map<int, float> computeLikelihood(int id) const;
+  // Graph neighbourhood in RAM (STM + WM): id -> link distance, within maxDepth. For the Bayes
+  // filter's transition model.
+  std::map<int, int> neighbors(int id, int maxDepth) const;
+
+  // An accepted loop closure between the new location and an older one (both in RAM): the link
+  // on both ends and the weight rule of the original: the newer location takes the sum of both
+  // weights, the older one 0 (it may be transferred; the place lives on in the newer one).
+  void addLoopClosure(const Link& link);
+
+  // Algorithm 3: brings back from LTM at most Rtabmap/MaxRetrieved locations near `id` (within
+  // the neighbourhood range, breadth first, neighbours in time before neighbours in space), their
+  // words re-quantised against the current vocabulary. Returns the retrieved ids.
+  std::vector<int> retrieve(int id);
+
+  // Algorithm 4: moves WM locations to LTM, the lowest weight first, then the oldest (time in
+  // WM, or id with Mem/TransferSortingByWeightId), until at least `minWordsRemoved` words have left
+  // the vocabulary and WM holds at most `maxWmSize` locations (0: no size limit); at least one
+  // location when `atLeastOne`. Never `immune` locations, nor the recent part of WM (the
+  // locations newer than the last loop closure, up to Mem/RecentWmRatio of WM).
+  TransferResult transfer(const std::set<int>& immune, int minWordsRemoved, int maxWmSize, bool atLeastOne);
+
+  // Writes every location in RAM to the LTM and waits for the writer.
+  void saveAll();
+  // Joins the database writer (Algorithm 1's "join trash thread").
+  void joinLtmWriter();
+
+  const Signature* signature(int id) const;
+  const std::set<int>& stm() const { return stm_; }
+  // WM ids with the update counter when each entered WM (its age for transfer).
+  const std::map<int, long>& wm() const { return wm_; }
+  bool inRam(int id) const { return signatures_.count(id) != 0; }
+  const vocabulary::Vocabulary& vocabulary() const { return vocabulary_; }
+  const MemoryOptions& options() const { return options_; }
+  MemorySummary summary() const;
+  int lastLocationId() const { return lastId_; }
+
+ private:
+  Signature& at(int id);
+  void selectStrongest(LocationInput& in) const;
+  bool isBadSignature(int words) const;
+  void rehearse(Signature& previous, Signature& fresh, AddResult& result);
+  void moveStmOverflowToWm();
+  void saveToLtm(Signature& s);
+  // Drops the location's references; words left without any leave the vocabulary. Returns how many.
+  int removeFromVocabulary(int id, const std::multimap<int, int>& words);
+  std::vector<int> transferCandidates(const std::set<int>& immune) const;
+  std::set<int> recentWm() const;
+  void requantize(Signature& s);
+
+  MemoryOptions options_;
+  db::Database* ltm_;
+  vocabulary::Vocabulary vocabulary_;
+  std::unordered_map<int, Signature> signatures_;  // STM + WM
+  std::set<int> stm_;
+  std::map<int, long> wm_;
+  std::unordered_set<int> savedWords_;  // words already in the LTM
+  long updateCounter_ = 0;
+  int lastId_ = 0;
+  int previousId_ = 0;  // location of the previous update (neighbour link, rehearsal)
+  int lastGlobalLoopClosureId_ = 0;
+  double wordsSum_ = 0.0;  // for the average words per location (bad signatures)
+  long wordsLocations_ = 0;
+  int transferredTotal_ = 0, retrievedTotal_ = 0;
+};
+
+}  // namespace rtabmap::memory

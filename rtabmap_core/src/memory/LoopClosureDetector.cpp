@@ -1,0 +1,109 @@
+#include "rtabmap_core/memory/LoopClosureDetector.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "rtabmap_core/common/Error.h"
+
+namespace rtabmap::memory {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+}  // namespace
+
+LoopClosureDetectorOptions LoopClosureDetectorOptions::fromParameters(const ParametersMap& p) {
+  LoopClosureDetectorOptions o;
+  o.timeThr = Parameters::getFloat(p, Parameters::kRtabmapTimeThr());
+  o.memoryThr = Parameters::getInt(p, Parameters::kRtabmapMemoryThr());
+  o.memory = MemoryOptions::fromParameters(p);
+  o.bayes = bayes::BayesFilterOptions::fromParameters(p);
+  o.hypothesis = bayes::HypothesisOptions::fromParameters(p);
+  std::string why;
+  if (!o.IsValid(&why)) throw ParameterError(why);
+  return o;
+}
+
+bool LoopClosureDetectorOptions::IsValid(std::string* why) const {
+  if (timeThr < 0.0f || memoryThr < 0) {
+    if (why) *why = Parameters::kRtabmapTimeThr() + " and " + Parameters::kRtabmapMemoryThr() + " must be >= 0";
+    return false;
+  }
+  return memory.IsValid(why) && bayes.IsValid(why) && hypothesis.IsValid(why);
+}
+
+LoopClosureDetector::LoopClosureDetector(const LoopClosureDetectorOptions& options, db::Database* ltm)
+    : options_(options), memory_(options.memory, ltm), filter_(options.bayes), ltm_(ltm) {
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument("LoopClosureDetector: " + why);
+}
+
+LoopClosureUpdate LoopClosureDetector::process(const LocationInput& input, bool keepPosterior) {
+  const auto start = Clock::now();
+  LoopClosureUpdate u;
+  auto t = Clock::now();
+  memory_.joinLtmWriter();  // the previous update's writes are done before this one starts
+  const size_t vocabularyAtStart = memory_.vocabulary().size();
+  const AddResult added = memory_.addLocation(input);
+  u.id = added.id;
+  u.merged = added.merged;
+  u.words = added.words;
+  u.newWords = added.newWords;
+  u.memoryUpdateMs = msSince(t);
+
+  const auto neighbors = [this](int id, int depth) { return memory_.neighbors(id, depth); };
+  const bool detect = added.id > 0 && !added.merged && !added.badSignature && !memory_.wm().empty();
+  if (detect) {
+    t = Clock::now();
+    const std::map<int, float> likelihood = bayes::adjustLikelihood(memory_.computeLikelihood(added.id));
+    u.likelihoodMs = msSince(t);
+    t = Clock::now();
+    const std::map<int, float>& posterior = filter_.update(likelihood, neighbors);
+    u.posteriorMs = msSince(t);
+    t = Clock::now();
+    u.highest = bayes::selectHypothesis(posterior, options_.hypothesis, previousHypothesisValue_);
+    previousHypothesisValue_ = u.highest.value;
+    if (u.highest.accepted) {
+      memory_.addLoopClosure(Link(added.id, u.highest.id, Link::kGlobalClosure, Transform::Identity()));
+      filter_.invalidateNeighborhood({added.id, u.highest.id}, neighbors);
+      u.loopClosureId = u.highest.id;
+    }
+    if (keepPosterior) u.posterior = posterior;
+    u.hypothesisMs = msSince(t);
+  }
+
+  std::set<int> immune;
+  if (ltm_ && u.highest.id > 0) {
+    t = Clock::now();
+    u.retrieved = memory_.retrieve(u.highest.id);
+    // The hypothesis and its direct neighbours are where the robot is expected next: they stay
+    // in WM with what was just retrieved. (Sparing the whole transition range would leave a
+    // small WM nothing to transfer.)
+    for (const auto& [id, depth] : memory_.neighbors(u.highest.id, 1)) {
+      (void)depth;
+      immune.insert(id);
+    }
+    u.retrievalMs = msSince(t);
+  }
+  immune.insert(u.retrieved.begin(), u.retrieved.end());
+
+  const bool overTime = options_.timeThr > 0.0f && msSince(start) > options_.timeThr;
+  const bool overSize = options_.memoryThr > 0 && static_cast<int>(memory_.wm().size()) > options_.memoryThr;
+  if (ltm_ && (overTime || overSize)) {
+    t = Clock::now();
+    // As many words leave the vocabulary as entered it in this update (new and retrieved words).
+    const size_t now = memory_.vocabulary().size();
+    const int entered = now > vocabularyAtStart ? static_cast<int>(now - vocabularyAtStart) : 0;
+    u.transferred = memory_.transfer(immune, entered, options_.memoryThr, overTime).transferred;
+    u.transferMs = msSince(t);
+  }
+  const MemorySummary s = memory_.summary();
+  u.wmSize = s.wmSize;
+  u.stmSize = s.stmSize;
+  u.vocabularySize = s.vocabularySize;
+  u.totalMs = msSince(start);
+  return u;
+}
+
+}  // namespace rtabmap::memory

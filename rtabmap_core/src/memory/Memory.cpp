@@ -1,0 +1,316 @@
+#include "rtabmap_core/memory/Memory.h"
+
+#include <algorithm>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/vocabulary/Similarity.h"
+
+namespace rtabmap::memory {
+
+MemoryOptions MemoryOptions::fromParameters(const ParametersMap& p) {
+  MemoryOptions o;
+  o.stmSize = Parameters::getInt(p, Parameters::kMemSTMSize());
+  o.rehearsalSimilarity = Parameters::getFloat(p, Parameters::kMemRehearsalSimilarity());
+  o.recentWmRatio = Parameters::getFloat(p, Parameters::kMemRecentWmRatio());
+  o.transferSortingByWeightId = Parameters::getBool(p, Parameters::kMemTransferSortingByWeightId());
+  o.rehearsalIdUpdatedToNewOne = Parameters::getBool(p, Parameters::kMemRehearsalIdUpdatedToNewOne());
+  o.badSignaturesIgnored = Parameters::getBool(p, Parameters::kMemBadSignaturesIgnored());
+  o.maxFeatures = Parameters::getInt(p, Parameters::kKpMaxFeatures());
+  o.badSignRatio = Parameters::getFloat(p, Parameters::kKpBadSignRatio());
+  o.tfIdf = Parameters::getBool(p, Parameters::kKpTfIdfLikelihoodUsed());
+  o.maxRetrieved = Parameters::getInt(p, Parameters::kRtabmapMaxRetrieved());
+  o.neighborhoodDepth =
+      std::max(0, static_cast<int>(Parameters::getNumberList(p, Parameters::kBayesPredictionLC()).size()) - 2);
+  o.vocabulary = vocabulary::VocabularyOptions::fromParameters(p);
+  std::string why;
+  if (!o.IsValid(&why)) throw ParameterError(why);
+  return o;
+}
+
+bool MemoryOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (stmSize < 0) return fail(Parameters::kMemSTMSize() + " must be >= 0");
+  if (recentWmRatio < 0.f || recentWmRatio > 1.f) return fail(Parameters::kMemRecentWmRatio() + " must be in [0, 1]");
+  if (badSignRatio < 0.f) return fail(Parameters::kKpBadSignRatio() + " must be >= 0");
+  if (maxRetrieved < 0) return fail(Parameters::kRtabmapMaxRetrieved() + " must be >= 0");
+  if (neighborhoodDepth < 0) return fail("neighbourhood depth must be >= 0");
+  return vocabulary.IsValid(why);
+}
+
+Memory::Memory(const MemoryOptions& options, db::Database* ltm)
+    : options_(options), ltm_(ltm), vocabulary_(options.vocabulary) {
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument("Memory: " + why);
+  if (ltm_) {
+    // A new session continues the ids of the database (multi-session maps share id spaces).
+    lastId_ = ltm_->lastNodeId();
+    vocabulary_.setLastWordId(ltm_->lastWordId());
+  }
+}
+
+Memory::~Memory() = default;
+
+Signature& Memory::at(int id) {
+  auto it = signatures_.find(id);
+  if (it == signatures_.end()) throw std::out_of_range("Memory: location " + std::to_string(id) + " is not in STM or WM");
+  return it->second;
+}
+
+const Signature* Memory::signature(int id) const {
+  auto it = signatures_.find(id);
+  return it == signatures_.end() ? nullptr : &it->second;
+}
+
+MemorySummary Memory::summary() const {
+  MemorySummary s;
+  s.stmSize = static_cast<int>(stm_.size());
+  s.wmSize = static_cast<int>(wm_.size());
+  s.vocabularySize = static_cast<int>(vocabulary_.size());
+  s.lastLocationId = lastId_;
+  s.lastGlobalLoopClosureId = lastGlobalLoopClosureId_;
+  s.transferredTotal = transferredTotal_;
+  s.retrievedTotal = retrievedTotal_;
+  return s;
+}
+
+// Algorithm 2: the strongest Kp/MaxFeatures keypoints (by detector response) make the words.
+void Memory::selectStrongest(LocationInput& in) const {
+  if (options_.maxFeatures < 0) {
+    in.keypoints.clear();
+    in.descriptors = cv::Mat();
+    in.points3D.clear();
+    return;
+  }
+  const size_t n = in.keypoints.size();
+  if (options_.maxFeatures == 0 || n <= static_cast<size_t>(options_.maxFeatures)) return;
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return in.keypoints[a].response > in.keypoints[b].response; });
+  order.resize(options_.maxFeatures);
+  std::sort(order.begin(), order.end());  // keep the image order
+  std::vector<cv::KeyPoint> kpts;
+  std::vector<cv::Point3f> pts;
+  cv::Mat desc(static_cast<int>(order.size()), in.descriptors.cols, in.descriptors.type());
+  for (size_t i = 0; i < order.size(); ++i) {
+    kpts.push_back(in.keypoints[order[i]]);
+    if (!in.points3D.empty()) pts.push_back(in.points3D[order[i]]);
+    in.descriptors.row(order[i]).copyTo(desc.row(static_cast<int>(i)));
+  }
+  in.keypoints.swap(kpts);
+  in.points3D.swap(pts);
+  in.descriptors = desc;
+}
+
+bool Memory::isBadSignature(int words) const {
+  if (words == 0) return true;
+  if (wordsLocations_ == 0) return false;
+  return words < options_.badSignRatio * (wordsSum_ / static_cast<double>(wordsLocations_));
+}
+
+AddResult Memory::addLocation(const LocationInput& rawInput) {
+  ++updateCounter_;
+  LocationInput in = rawInput;
+  if (in.descriptors.rows != static_cast<int>(in.keypoints.size())) {
+    throw std::invalid_argument("Memory::addLocation: " + std::to_string(in.descriptors.rows) +
+                                " descriptors for " + std::to_string(in.keypoints.size()) + " keypoints");
+  }
+  if (!in.points3D.empty() && in.points3D.size() != in.keypoints.size()) {
+    throw std::invalid_argument("Memory::addLocation: points3D and keypoints differ in size");
+  }
+  selectStrongest(in);
+
+  AddResult result;
+  const int id = lastId_ + 1;
+  const std::vector<int> wordIds = vocabulary_.quantize(in.descriptors, id);
+  std::multimap<int, int> words;
+  for (size_t i = 0; i < wordIds.size(); ++i) {
+    if (wordIds[i] > 0) words.emplace(wordIds[i], static_cast<int>(i));
+  }
+  result.words = static_cast<int>(words.size());
+  result.newWords = vocabulary_.summary().lastNewWords;
+  result.badSignature = isBadSignature(result.words);
+  if (result.badSignature && options_.badSignaturesIgnored) {
+    // Not added at all: its references and the words only it had go away.
+    removeFromVocabulary(id, words);
+    return result;
+  }
+  if (result.words > 0) {
+    wordsSum_ += result.words;
+    ++wordsLocations_;
+  }
+
+  Signature fresh(id, in.mapId, 0, in.stamp, std::string(), in.pose, Transform(), in.data);
+  if (!words.empty()) {
+    std::vector<cv::KeyPoint> kpts;
+    std::vector<cv::Point3f> pts;
+    std::vector<int> rows;
+    // Keypoints without a word (fixed vocabulary) are dropped so indices stay dense.
+    for (size_t i = 0; i < wordIds.size(); ++i) {
+      if (wordIds[i] <= 0) continue;
+      rows.push_back(static_cast<int>(i));
+    }
+    std::multimap<int, int> dense;
+    cv::Mat desc(static_cast<int>(rows.size()), in.descriptors.cols, in.descriptors.type());
+    for (size_t k = 0; k < rows.size(); ++k) {
+      dense.emplace(wordIds[rows[k]], static_cast<int>(k));
+      kpts.push_back(in.keypoints[rows[k]]);
+      if (!in.points3D.empty()) pts.push_back(in.points3D[rows[k]]);
+      in.descriptors.row(rows[k]).copyTo(desc.row(static_cast<int>(k)));
+    }
+    fresh.setWords(dense, kpts, pts, desc);
+  }
+  fresh.setBadSignature(result.badSignature);
+
+  // Neighbour link to the previous location (odometry between them, identity without poses).
+  // The location the last update left (the kept one after a rehearsal merge), if still in RAM.
+  const int previousId = signatures_.count(previousId_) ? previousId_ : 0;
+  if (previousId) {
+    Signature& previous = at(previousId);
+    Transform t = Transform::Identity();
+    if (!previous.getPose().isNull() && !fresh.getPose().isNull()) t = previous.getPose().inverse() * fresh.getPose();
+    if (previous.mapId() == fresh.mapId()) addLinkBetween(previous, fresh, Link(previousId, id, Link::kNeighbor, t));
+    result.rehearsalSimilarity = vocabulary::similarity(previous.getWords(), fresh.getWords());
+  }
+  result.id = id;
+  lastId_ = id;
+  auto inserted = signatures_.emplace(id, std::move(fresh)).first;
+  stm_.insert(id);
+  if (previousId && options_.rehearsalSimilarity < 1.0f && result.rehearsalSimilarity >= options_.rehearsalSimilarity &&
+      !signatures_.at(previousId).isBadSignature() && !inserted->second.isBadSignature()) {
+    rehearse(signatures_.at(previousId), inserted->second, result);
+  }
+  previousId_ = result.id;
+  moveStmOverflowToWm();
+  return result;
+}
+
+// T-RO 2013, III-C: the new location and the previous one are the same place; one of them
+// remains with weight (previous weight + new weight + 1). By default the previous keeps its id
+// and the new one is dropped; with Mem/RehearsalIdUpdatedToNewOne the new one stays and takes
+// over the previous one's links.
+void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) {
+  const int weight = previous.weight() + fresh.weight() + 1;
+  Signature& removed = options_.rehearsalIdUpdatedToNewOne ? previous : fresh;
+  Signature& kept = options_.rehearsalIdUpdatedToNewOne ? fresh : previous;
+  const int removedId = removed.id();
+  removeLinkBetween(kept, removed);
+  // The removed location's other links now end on the kept one.
+  for (const auto& [to, link] : std::multimap<int, Link>(removed.getLinks())) {
+    Signature* other = signatures_.count(to) ? &signatures_.at(to) : nullptr;
+    if (!other) continue;
+    Link moved = link;
+    moved.setFrom(kept.id());
+    other->removeLink(removedId, link.type());
+    addLinkBetween(kept, *other, moved);
+  }
+  kept.setWeight(weight);
+  // Words only the removed location had leave (if saved, the LTM still has them).
+  removeFromVocabulary(removedId, removed.getWords());
+  result.merged = true;
+  result.mergedWith = removedId;
+  result.id = kept.id();
+  stm_.erase(removedId);
+  wm_.erase(removedId);  // with Mem/STMSize 0 the previous location is already in WM
+  signatures_.erase(removedId);
+}
+
+void Memory::moveStmOverflowToWm() {
+  while (static_cast<int>(stm_.size()) > options_.stmSize) {
+    const int oldest = *stm_.begin();
+    stm_.erase(stm_.begin());
+    wm_[oldest] = updateCounter_;
+    if (ltm_) saveToLtm(at(oldest));
+  }
+}
+
+void Memory::saveToLtm(Signature& s) {
+  std::vector<db::StoredWord> newWords;
+  for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
+    if (savedWords_.count(it->first)) continue;
+    const vocabulary::VisualWord* w = vocabulary_.word(it->first);
+    if (!w) continue;
+    newWords.push_back({w->id, w->descriptor});
+    savedWords_.insert(w->id);
+  }
+  ltm_->saveNode(s, std::move(newWords));
+  s.setSaved(true);
+  s.setModified(false);
+  s.setLinksModified(false);
+}
+
+int Memory::removeFromVocabulary(int id, const std::multimap<int, int>& words) {
+  vocabulary_.removeReferences(id, words);
+  int removed = 0;
+  for (auto it = words.begin(); it != words.end(); it = words.upper_bound(it->first)) {
+    const vocabulary::VisualWord* w = vocabulary_.word(it->first);
+    if (w && w->references.empty()) {
+      vocabulary_.removeWord(it->first);
+      ++removed;
+    }
+  }
+  return removed;
+}
+
+std::map<int, float> Memory::computeLikelihood(int id) const {
+  const Signature* s = signature(id);
+  if (!s) throw std::out_of_range("Memory::computeLikelihood: location " + std::to_string(id) + " is not in RAM");
+  std::unordered_map<int, int> candidates;
+  for (const auto& [wmId, age] : wm_) {
+    (void)age;
+    const Signature& c = signatures_.at(wmId);
+    if (wmId != id && !c.isBadSignature()) candidates.emplace(wmId, static_cast<int>(c.getWords().size()));
+  }
+  return vocabulary::computeLikelihood(vocabulary_, s->getWords(), candidates,
+                                       static_cast<int>(signatures_.size()), options_.tfIdf);
+}
+
+std::map<int, int> Memory::neighbors(int id, int maxDepth) const {
+  std::map<int, int> depth;
+  if (!signatures_.count(id)) return depth;
+  depth[id] = 0;
+  std::vector<int> frontier{id};
+  for (int d = 1; d <= maxDepth && !frontier.empty(); ++d) {
+    std::vector<int> next;
+    for (int n : frontier) {
+      for (const auto& [to, link] : signatures_.at(n).getLinks()) {
+        if (to <= 0 || to == n || link.type() == Link::kVirtualClosure || !signatures_.count(to)) continue;
+        if (depth.emplace(to, d).second) next.push_back(to);
+      }
+    }
+    frontier.swap(next);
+  }
+  return depth;
+}
+
+void Memory::addLoopClosure(const Link& link) {
+  Signature& a = at(link.from());
+  Signature& b = at(link.to());
+  addLinkBetween(a, b, link);
+  Signature& newer = a.id() > b.id() ? a : b;
+  Signature& older = a.id() > b.id() ? b : a;
+  newer.setWeight(newer.weight() + older.weight());
+  older.setWeight(0);
+  lastGlobalLoopClosureId_ = std::max(lastGlobalLoopClosureId_, newer.id());
+}
+
+void Memory::joinLtmWriter() {
+  if (ltm_) ltm_->flush();
+}
+
+void Memory::saveAll() {
+  if (!ltm_) return;
+  for (auto& [id, s] : signatures_) {
+    if (!s.isSaved() || s.isModified() || s.isLinksModified()) saveToLtm(s);
+  }
+  ltm_->flush();
+}
+
+}  // namespace rtabmap::memory

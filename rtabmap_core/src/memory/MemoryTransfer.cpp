@@ -1,0 +1,136 @@
+// Transfer to and retrieval from the Long-Term Memory (T-RO 2013, Algorithms 3 and 4).
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/memory/Memory.h"
+
+namespace rtabmap::memory {
+
+// The recent part of WM: the locations added since the last loop closure, the newest first,
+// at most Mem/RecentWmRatio of WM. While the robot explores new ground they are what a loop
+// closure would connect to next, so they stay.
+std::set<int> Memory::recentWm() const {
+  std::set<int> recent;
+  const size_t maxRecent = static_cast<size_t>(options_.recentWmRatio * static_cast<float>(wm_.size()));
+  for (auto it = wm_.rbegin(); it != wm_.rend() && recent.size() < maxRecent; ++it) {
+    if (it->first <= lastGlobalLoopClosureId_) break;
+    recent.insert(it->first);
+  }
+  return recent;
+}
+
+std::vector<int> Memory::transferCandidates(const std::set<int>& immune) const {
+  const std::set<int> recent = recentWm();
+  std::vector<int> candidates;
+  for (const auto& [id, age] : wm_) {
+    (void)age;
+    if (!immune.count(id) && !recent.count(id)) candidates.push_back(id);
+  }
+  // Lowest weight first; among equal weights the oldest: by time in WM (a retrieved location
+  // is young again) or by id (Mem/TransferSortingByWeightId).
+  std::stable_sort(candidates.begin(), candidates.end(), [this](int a, int b) {
+    const int wa = signatures_.at(a).weight(), wb = signatures_.at(b).weight();
+    if (wa != wb) return wa < wb;
+    if (options_.transferSortingByWeightId) return a < b;
+    const long ta = wm_.at(a), tb = wm_.at(b);
+    return ta != tb ? ta < tb : a < b;
+  });
+  return candidates;
+}
+
+TransferResult Memory::transfer(const std::set<int>& immune, int minWordsRemoved, int maxWmSize, bool atLeastOne) {
+  if (!ltm_) throw std::logic_error("Memory::transfer: no long-term memory (database) is attached");
+  TransferResult result;
+  for (int id : transferCandidates(immune)) {
+    const bool wordsOk = result.wordsRemoved >= minWordsRemoved;
+    const bool sizeOk = maxWmSize <= 0 || static_cast<int>(wm_.size()) <= maxWmSize;
+    const bool countOk = !atLeastOne || !result.transferred.empty();
+    if (wordsOk && sizeOk && countOk) break;
+    Signature& s = at(id);
+    if (!s.isSaved() || s.isModified() || s.isLinksModified()) saveToLtm(s);
+    result.wordsRemoved += removeFromVocabulary(id, s.getWords());
+    wm_.erase(id);
+    signatures_.erase(id);
+    result.transferred.push_back(id);
+  }
+  transferredTotal_ += static_cast<int>(result.transferred.size());
+  return result;
+}
+
+// Words of a retrieved location that left the vocabulary: an exact match of the current
+// vocabulary (the same descriptor came back as another word meanwhile) is reused, the others
+// come back with their ids.
+void Memory::requantize(Signature& s) {
+  std::vector<int> missing;
+  for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
+    if (!vocabulary_.word(it->first)) missing.push_back(it->first);
+  }
+  if (!missing.empty()) {
+    std::vector<vocabulary::VisualWord> back;
+    for (const db::StoredWord& stored : ltm_->loadWords(missing)) {
+      const int current = vocabulary_.findWords(stored.descriptor)[0];
+      const vocabulary::VisualWord* w = current ? vocabulary_.word(current) : nullptr;
+      if (w && cv::norm(w->descriptor, stored.descriptor,
+                        stored.descriptor.type() == CV_8U ? cv::NORM_HAMMING : cv::NORM_L2) == 0.0) {
+        s.changeWordsRef(stored.id, current);
+      } else {
+        back.push_back({stored.id, stored.descriptor, {}});
+        savedWords_.insert(stored.id);  // it comes from the LTM
+      }
+    }
+    vocabulary_.addWords(std::move(back));
+  }
+  for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
+    if (vocabulary_.word(it->first)) {
+      vocabulary_.addReference(it->first, s.id(), static_cast<int>(s.getWords().count(it->first)));
+    }
+  }
+}
+
+std::vector<int> Memory::retrieve(int id) {
+  if (!ltm_) throw std::logic_error("Memory::retrieve: no long-term memory (database) is attached");
+  std::vector<int> toLoad;
+  if (options_.maxRetrieved == 0 || !signatures_.count(id)) return toLoad;
+  // Breadth first from the hypothesis over the whole graph (RAM and LTM); at each depth the
+  // neighbours in time (neighbour links) come before the neighbours in space (loop closures).
+  std::set<int> seen{id};
+  std::vector<int> frontier{id};
+  for (int d = 1; d <= options_.neighborhoodDepth && !frontier.empty() &&
+                  static_cast<int>(toLoad.size()) < options_.maxRetrieved;
+       ++d) {
+    std::vector<int> inTime, inSpace;
+    for (int n : frontier) {
+      const Signature* s = signature(n);
+      const std::multimap<int, Link> links = s ? s->getLinks() : ltm_->loadLinks(n);
+      for (const auto& [to, link] : links) {
+        if (to <= 0 || to == n || link.type() == Link::kVirtualClosure || !seen.insert(to).second) continue;
+        const bool time = link.type() == Link::kNeighbor || link.type() == Link::kNeighborMerged;
+        (time ? inTime : inSpace).push_back(to);
+      }
+    }
+    frontier = inTime;
+    frontier.insert(frontier.end(), inSpace.begin(), inSpace.end());
+    for (int n : frontier) {
+      if (static_cast<int>(toLoad.size()) >= options_.maxRetrieved) break;
+      if (!signatures_.count(n)) toLoad.push_back(n);
+    }
+  }
+  std::vector<int> retrieved;
+  for (Signature& s : ltm_->loadNodes(toLoad)) {
+    const int sid = s.id();
+    s.setSaved(true);
+    s.setModified(false);
+    s.setLinksModified(false);
+    requantize(s);  // marks it modified if a word id changed: saved again when it leaves
+    signatures_.emplace(sid, std::move(s));
+    wm_[sid] = updateCounter_;
+    retrieved.push_back(sid);
+  }
+  retrievedTotal_ += static_cast<int>(retrieved.size());
+  return retrieved;
+}
+
+}  // namespace rtabmap::memory

@@ -1,0 +1,128 @@
+// Transfer to and retrieval from the LTM (T-RO 2013, Algorithms 3 and 4).
+#include <gtest/gtest.h>
+
+#include "MemoryTestPlaces.h"
+#include "common/TestData.h"
+#include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/memory/Memory.h"
+
+namespace rtabmap::memory {
+namespace {
+
+using test::view;
+
+struct WithLtm {
+  rtabmap::test::TempDir dir;
+  db::Database database{dir.file("ltm.db")};
+};
+
+TEST(MemoryTransfer, LowestWeightThenOldestFirst) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 1;
+  o.recentWmRatio = 0.f;
+  Memory m(o, &ltm.database);
+  m.addLocation(view(1));
+  m.addLocation(view(2));
+  m.addLocation(view(2, 1));  // 2 gets weight 1
+  for (int p = 3; p <= 6; ++p) m.addLocation(view(p));
+  // WM: 1, 2 (weight 1), 4, 5, 6 (ids: views 3..6 are 4..7; 7 in STM).
+  ASSERT_EQ(m.wm().size(), 5u);
+  TransferResult r = m.transfer({}, 0, 2, false);
+  EXPECT_EQ(r.transferred, (std::vector<int>{1, 4, 5}));  // weight 0 by age; 2 (weight 1) stays
+  EXPECT_EQ(r.wordsRemoved, 300);
+  EXPECT_EQ(m.wm().size(), 2u);
+  EXPECT_EQ(m.vocabulary().size(), 300u);  // 2, 6 and 7's words
+  m.joinLtmWriter();
+  EXPECT_TRUE(ltm.database.loadNode(1).has_value());
+}
+
+TEST(MemoryTransfer, ImmuneAndRecentLocationsStay) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 1;
+  o.recentWmRatio = 0.5f;
+  Memory m(o, &ltm.database);
+  for (int p = 1; p <= 7; ++p) m.addLocation(view(p));
+  // WM 1..6, no loop closure yet: the newest half (4, 5, 6) is recent.
+  TransferResult r = m.transfer({1}, 1000, 0, false);
+  EXPECT_EQ(r.transferred, (std::vector<int>{2, 3}));
+  EXPECT_TRUE(m.wm().count(1) && m.wm().count(4) && m.wm().count(6));
+}
+
+TEST(MemoryTransfer, AtLeastOneAndWordsTarget) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 1;
+  o.recentWmRatio = 0.f;
+  Memory m(o, &ltm.database);
+  for (int p = 1; p <= 6; ++p) m.addLocation(view(p));
+  EXPECT_EQ(m.transfer({}, 0, 0, true).transferred.size(), 1u);
+  EXPECT_EQ(m.transfer({}, 150, 0, false).transferred.size(), 2u);  // 100 words each
+  EXPECT_TRUE(m.transfer({}, 0, 0, false).transferred.empty());
+}
+
+TEST(MemoryTransfer, RetrievalBringsBackNeighboursInTimeFirstWithTheirWords) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 1;
+  o.recentWmRatio = 0.f;
+  o.maxRetrieved = 2;
+  Memory m(o, &ltm.database);
+  for (int p = 1; p <= 8; ++p) m.addLocation(view(p));
+  m.addLoopClosure(Link(8, 3, Link::kGlobalClosure, Transform::Identity()));
+  const std::multimap<int, int> words4 = m.signature(4)->getWords();
+  // Transfer everything but 5 (the future hypothesis) and the STM.
+  TransferResult t = m.transfer({5}, 100000, 0, false);
+  ASSERT_FALSE(m.inRam(4));
+  ASSERT_FALSE(m.inRam(3));
+  EXPECT_EQ(m.vocabulary().size(), 200u);  // words of 5 and 8
+  // From 5: depth 1 = 4 and 6 (time); then 3 (time, via 4) and 7...
+  std::vector<int> back = m.retrieve(5);
+  EXPECT_EQ(back, (std::vector<int>{4, 6}));
+  EXPECT_EQ(m.signature(4)->getWords(), words4);  // the same words back
+  EXPECT_EQ(m.vocabulary().size(), 400u);
+  EXPECT_EQ(m.vocabulary().word(words4.begin()->first)->references.count(4), 1u);
+  // A revisit of place 4 finds it again.
+  AddResult r = m.addLocation(view(4, 1));
+  auto l = m.computeLikelihood(r.id);
+  EXPECT_GT(l.at(4), 0.f);
+  for (const auto& [id, score] : l) {
+    if (id != 4) {
+      EXPECT_FLOAT_EQ(score, 0.f) << id;
+    }
+  }
+  // Next retrieval: depth 2 from 5 is 3 and 7; 3 has a loop closure with 8 (space) but
+  // neighbours in time of the frontier come first.
+  back = m.retrieve(5);
+  EXPECT_EQ(back, (std::vector<int>{3, 7}));
+}
+
+TEST(MemoryTransfer, ChangedWordsAreReusedOnRetrieval) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 0;
+  o.recentWmRatio = 0.f;
+  Memory m(o, &ltm.database);
+  m.addLocation(view(1));
+  m.addLocation(view(2));
+  const int firstWord = m.signature(1)->getWords().begin()->first;
+  m.transfer({2}, 0, 0, true);  // 1 leaves with its words
+  ASSERT_FALSE(m.inRam(1));
+  // The exact same descriptors come back as new words of location 3.
+  m.addLocation(view(1));
+  std::vector<int> back = m.retrieve(2);
+  ASSERT_EQ(back, (std::vector<int>{1}));
+  // Location 1's words were re-quantised to location 3's identical words, not duplicated.
+  EXPECT_EQ(m.vocabulary().size(), 200u);
+  EXPECT_EQ(m.vocabulary().word(firstWord), nullptr);
+}
+
+TEST(MemoryTransfer, WithoutLtmTransferIsAnError) {
+  Memory m(MemoryOptions{});
+  EXPECT_THROW(m.transfer({}, 1, 0, true), std::logic_error);
+  EXPECT_THROW(m.retrieve(1), std::logic_error);
+}
+
+}  // namespace
+}  // namespace rtabmap::memory
