@@ -1,0 +1,78 @@
+// graph:: connected components and the local map.
+#include <algorithm>
+#include <deque>
+#include <unordered_map>
+
+#include "rtabmap_core/optimizer/Graph.h"
+
+namespace rtabmap::graph {
+
+namespace {
+
+// Undirected adjacency of the links between distinct nodes accepted by `accept`.
+template <typename Accept>
+std::unordered_map<int, std::vector<int>> adjacency(const Links& links, Accept accept) {
+  std::unordered_map<int, std::vector<int>> adj;
+  for (const auto& [key, link] : links) {
+    (void)key;
+    if (link.from() == link.to() || !accept(link.from()) || !accept(link.to())) continue;
+    adj[link.from()].push_back(link.to());
+    adj[link.to()].push_back(link.from());
+  }
+  return adj;
+}
+
+std::set<int> breadthFirst(int root, const std::unordered_map<int, std::vector<int>>& adj) {
+  std::set<int> seen{root};
+  std::deque<int> queue{root};
+  while (!queue.empty()) {
+    const int id = queue.front();
+    queue.pop_front();
+    const auto it = adj.find(id);
+    if (it == adj.end()) continue;
+    for (int next : it->second) {
+      if (seen.insert(next).second) queue.push_back(next);
+    }
+  }
+  return seen;
+}
+
+}  // namespace
+
+std::set<int> connectedComponent(int root, const Links& links, const std::set<int>* allowed) {
+  if (allowed && !allowed->count(root)) return {};
+  const auto adj = adjacency(links, [&](int id) { return !allowed || allowed->count(id) != 0; });
+  return breadthFirst(root, adj);
+}
+
+std::vector<std::set<int>> connectedComponents(const Poses& poses, const Links& links) {
+  const auto adj = adjacency(links, [&](int id) { return poses.count(id) != 0; });
+  std::vector<std::set<int>> components;
+  std::set<int> assigned;
+  for (const auto& [id, pose] : poses) {
+    (void)pose;
+    if (assigned.count(id)) continue;
+    std::set<int> component = breadthFirst(id, adj);
+    assigned.insert(component.begin(), component.end());
+    components.push_back(std::move(component));
+  }
+  // Stable: components were found in increasing first id, so ties keep that order.
+  std::stable_sort(components.begin(), components.end(),
+                   [](const std::set<int>& a, const std::set<int>& b) { return a.size() > b.size(); });
+  return components;
+}
+
+Subgraph localMap(int root, const Poses& poses, const Links& links) {
+  Subgraph out;
+  if (!poses.count(root)) return out;
+  const auto adj = adjacency(links, [&](int id) { return poses.count(id) != 0; });
+  const std::set<int> ids = breadthFirst(root, adj);
+  for (int id : ids) out.poses.emplace(id, poses.at(id));
+  for (const auto& entry : links) {
+    const Link& link = entry.second;
+    if (ids.count(link.from()) && ids.count(link.to())) out.links.insert(out.links.end(), entry);
+  }
+  return out;
+}
+
+}  // namespace rtabmap::graph
