@@ -53,7 +53,9 @@ LoopClosureUpdate LoopClosureDetector::process(const LocationInput& input, bool 
   u.memoryUpdateMs = msSince(t);
 
   const auto neighbors = [this](int id, int depth) { return memory_.neighbors(id, depth); };
-  const bool detect = added.id > 0 && !added.merged && !added.badSignature && !memory_.wm().empty();
+  // A location merged by rehearsal is still the current place (T-RO 2013, III-C: L_c is merged
+  // into L_t, which goes on to the Bayes filter): only bad signatures skip detection.
+  const bool detect = added.id > 0 && !added.badSignature && !memory_.wm().empty();
   if (detect) {
     t = Clock::now();
     const std::map<int, float> likelihood = bayes::adjustLikelihood(memory_.computeLikelihood(added.id));

@@ -136,9 +136,13 @@ std::unique_ptr<Vocabulary::Index> Vocabulary::Index::create(const VocabularyOpt
     return std::make_unique<FlannIndex<flann::L2<float>>>(
         flann::LinearIndexParams(), flann::FLANN_CHECKS_UNLIMITED, true, false, false);
   }
-  // kd-trees (also for float descriptors under the LSH strategy: LSH needs binary ones).
+  // kd-trees (also for float descriptors under the LSH strategy: LSH needs binary ones). FLANN's
+  // L2 is squared: the true distance is its square root, except for binary descriptors
+  // expanded per bit, whose squared L2 is exactly their Hamming distance, the distance the
+  // ratio test must use for them (as the linear and LSH indexes and the in-image matching do).
+  const bool hamming = binary && !options.byteToFloat;
   return std::make_unique<FlannIndex<flann::L2<float>>>(
-      flann::KDTreeIndexParams(options.kdTrees), options.searchChecks, true, binary, options.byteToFloat);
+      flann::KDTreeIndexParams(options.kdTrees), options.searchChecks, !hamming, binary, options.byteToFloat);
 }
 
 }  // namespace rtabmap::vocabulary

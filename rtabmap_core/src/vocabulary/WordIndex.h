@@ -13,7 +13,8 @@
 namespace rtabmap::vocabulary {
 
 // Up to two nearest words of one query: (word id, distance); word id 0 when absent. Distances
-// are true distances (L2, not squared; Hamming bit counts) so the ratio test reads as written.
+// are the descriptors' own: Euclidean (not squared) for float ones, Hamming bit counts for
+// binary ones, so the ratio test reads as written.
 using NearestTwo = std::array<std::pair<int, float>, 2>;
 
 class Vocabulary::Index {
