@@ -1,0 +1,84 @@
+#include "rtabmap_conversions/LaserScanConversions.h"
+
+#include <cmath>
+#include <limits>
+
+#include "Support.h"
+
+namespace rtabmap_conversions {
+
+std::optional<rtabmap::LaserScan> laserScanFromMsg(const sensor_msgs::LaserScan& msg,
+                                                   const rtabmap::Transform& localTransform, std::string* error) {
+  const std::string what = "LaserScan of frame '" + msg.header.frame_id + "'";
+  if (msg.ranges.empty()) return detail::fail(error, what + " has no ranges");
+  if (!std::isfinite(msg.angle_min) || !std::isfinite(msg.angle_max) || !std::isfinite(msg.angle_increment) ||
+      msg.angle_increment == 0.0f) {
+    return detail::fail(error, what + " has an invalid beam geometry (angle_min " + std::to_string(msg.angle_min) +
+                                   ", angle_max " + std::to_string(msg.angle_max) + ", angle_increment " +
+                                   std::to_string(msg.angle_increment) + ")");
+  }
+  // Drivers disagree on whether angle_max is the last beam or one past it: accept one beam of
+  // slack, reject anything else (a wrong increment would put every point at a wrong bearing).
+  const double span = (double(msg.angle_max) - double(msg.angle_min)) / double(msg.angle_increment);
+  const long expected = std::lround(span) + 1;
+  if (span < -0.5 || std::abs(expected - long(msg.ranges.size())) > 1) {
+    return detail::fail(error, what + ": angles from " + std::to_string(msg.angle_min) + " to " +
+                                   std::to_string(msg.angle_max) + " by " + std::to_string(msg.angle_increment) +
+                                   " make " + std::to_string(expected) + " beams, but there are " +
+                                   std::to_string(msg.ranges.size()) + " ranges");
+  }
+  if (!std::isfinite(msg.range_min) || !std::isfinite(msg.range_max) || msg.range_min < 0.0f ||
+      msg.range_max <= msg.range_min) {
+    return detail::fail(error, what + " has invalid range limits [" + std::to_string(msg.range_min) + ", " +
+                                   std::to_string(msg.range_max) + "]");
+  }
+  if (!msg.intensities.empty() && msg.intensities.size() != msg.ranges.size()) {
+    return detail::fail(error, what + " has " + std::to_string(msg.intensities.size()) + " intensities for " +
+                                   std::to_string(msg.ranges.size()) + " ranges");
+  }
+  try {
+    return rtabmap::LaserScan::fromRanges(msg.ranges, msg.angle_min, msg.angle_increment, msg.range_min,
+                                          msg.range_max, localTransform, msg.intensities);
+  } catch (const std::exception& e) {
+    return detail::fail(error, what + ": " + e.what());
+  }
+}
+
+std::optional<sensor_msgs::LaserScan> laserScanToMsg(const rtabmap::LaserScan& scan, const std_msgs::Header& header,
+                                                     std::string* error) {
+  if (!scan.is2d() && !scan.empty()) {
+    return detail::fail(error, "laserScanToMsg: a " + rtabmap::LaserScan::formatName(scan.format()) +
+                                   " scan is 3D; publish it as a PointCloud2");
+  }
+  if (!scan.hasBeamGeometry()) {
+    return detail::fail(error, "laserScanToMsg: the scan has no beam geometry (built from points), so its "
+                               "beams are unknown; publish it as a PointCloud2");
+  }
+  sensor_msgs::LaserScan msg;
+  msg.header = header;
+  msg.angle_min = static_cast<float>(scan.angleMin());
+  msg.angle_max = static_cast<float>(scan.angleMax());
+  msg.angle_increment = static_cast<float>(scan.angleIncrement());
+  msg.range_min = static_cast<float>(scan.rangeMin());
+  msg.range_max = static_cast<float>(scan.rangeMax() > 0.0 ? scan.rangeMax() : std::numeric_limits<float>::max());
+  msg.ranges = scan.toRanges();
+  if (scan.hasIntensity()) {
+    // Intensity of each beam: the beam a point belongs to is found from its bearing exactly as
+    // toRanges() does, so ranges and intensities stay aligned.
+    msg.intensities.assign(msg.ranges.size(), 0.0f);
+    const int beams = static_cast<int>(msg.ranges.size());
+    const double turn = 2.0 * M_PI / std::abs(scan.angleIncrement());
+    const int cn = scan.data().channels();
+    for (int i = 0; i < scan.size(); ++i) {
+      const float* p = scan.data().ptr<float>(0) + static_cast<size_t>(i) * cn;
+      double k = (std::atan2(p[1], p[0]) - scan.angleMin()) / scan.angleIncrement();
+      while (k < -0.5) k += turn;
+      while (k > beams - 0.5 + 1e-9 && k - turn >= -0.5) k -= turn;
+      const long idx = std::lround(k);
+      if (idx >= 0 && idx < beams) msg.intensities[static_cast<size_t>(idx)] = p[2];
+    }
+  }
+  return msg;
+}
+
+}  // namespace rtabmap_conversions
