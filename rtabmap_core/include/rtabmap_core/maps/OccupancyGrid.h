@@ -1,0 +1,127 @@
+#pragma once
+// The global 2D occupancy grid (JFR 2019, 4.3.6, Figure 4.8): assembled from the nodes' local
+// grids with the graph's poses, probabilistic (log-odds, OctoMap's sensor model), updated
+// incrementally when a node is added and re-assembled when optimisation moves the graph.
+//
+//   OccupancyGrid grid(GlobalGridOptions::fromParameters(parameters));
+//   grid.addLocalGrid(id, data.localGrid());           // once per node
+//   GridUpdateSummary s = grid.update(optimisedPoses);   // after every map update
+//   GridMap map = grid.map();                            // -> nav_msgs/OccupancyGrid
+//
+// Cell update. Each node updates each cell at most once: occupied if one of its obstacle cells
+// falls in it, else free if one of its ground cells (or 2D empty cells) does. A cell's log-odds L
+// starts unknown; an update adds logit(ProbHit) or logit(ProbMiss) to L (0 for the first one)
+// and clamps it to [logit(ProbClampingMin), logit(ProbClampingMax)], so a cell can change its
+// mind after a bounded number of contrary observations. Nodes update in increasing id order.
+// A cell is occupied when L > logit(OccupancyThr). 3D local grids are projected: obstacles and
+// ground by their x y; their empty voxels are not used (free space at some height says nothing
+// about the floor under it).
+//
+// Re-assembly after optimisation. Clamping makes a cell depend on the order of its updates, so
+// a moved node's old contribution cannot be subtracted. Both paths below give exactly the map a
+// full rebuild in id order would give:
+//  - full: clear the map, replay every node;
+//  - region: mark the tiles (32 x 32 cells) touched by the moved / removed / out-of-order nodes
+//    at their old and new poses, clear only those tiles, replay (in id order) the nodes whose
+//    bounds overlap them, writing only inside them.
+// update() picks the cheaper path per update from the work each needs (cells to replay and to
+// clear) and the time per unit each path has taken so far (measured; both start from the same
+// prior), unless GridGlobal/FullUpdate is false, which forces the region path. The summary says
+// which path ran and why.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rtabmap_core/geometry/SensorData.h"
+#include "rtabmap_core/geometry/Transform.h"
+#include "rtabmap_core/maps/GridMap.h"
+#include "rtabmap_core/params/Parameters.h"
+
+namespace rtabmap {
+
+// GridGlobal/* (and Grid/CellSize) for the global maps.
+struct GlobalGridOptions {
+  float cellSize = 0.05f;         // Grid/CellSize: must match the local grids'
+  float minSize = 0.0f;           // GridGlobal/MinSize (m)
+  float probHit = 0.7f;           // GridGlobal/ProbHit
+  float probMiss = 0.4f;          // GridGlobal/ProbMiss
+  float probClampingMin = 0.1192f;// GridGlobal/ProbClampingMin
+  float probClampingMax = 0.971f; // GridGlobal/ProbClampingMax
+  float occupancyThr = 0.5f;      // GridGlobal/OccupancyThr
+  bool fullUpdate = true;         // GridGlobal/FullUpdate: allow the full rebuild path
+  float updateError = 0.01f;      // GridGlobal/UpdateError (m)
+  float footprintRadius = 0.0f;   // GridGlobal/FootprintRadius (m)
+  bool eroded = false;            // GridGlobal/Eroded
+  int maxNodes = 0;               // GridGlobal/MaxNodes
+  float altitudeDelta = 0.0f;     // GridGlobal/AltitudeDelta (m)
+
+  static GlobalGridOptions fromParameters(const ParametersMap& parameters);
+  // Reasons name the key: cell size <= 0, ProbHit <= 0.5, ProbMiss >= 0.5, clamping bounds out of
+  // order, ...
+  bool IsValid(std::string* why = nullptr) const;
+  void validate() const;  // throws ParameterError
+};
+
+// What one update() did.
+struct GridUpdateSummary {
+  enum class Path { kNone, kIncremental, kRegion, kFull };
+  Path path = Path::kNone;
+  std::string why;           // in words: what changed and why this path
+  int nodesInGraph = 0;      // poses given with a local grid cached
+  int nodesAssembled = 0;    // in the map after the update
+  int nodesAdded = 0;        // appended incrementally
+  int nodesMoved = 0;        // moved by more than GridGlobal/UpdateError
+  int nodesRemoved = 0;      // no longer in the graph (or filtered by MaxNodes / AltitudeDelta)
+  int nodesReplayed = 0;     // region / full: nodes applied again
+  int nodesWithoutGrid = 0;  // poses given for nodes without a cached local grid
+  long cellUpdates = 0;      // cell updates applied
+  double estimatedRegionUnits = 0.0;  // the work estimates the choice compared
+  double estimatedFullUnits = 0.0;
+  double timeMs = 0.0;
+};
+const char* pathName(GridUpdateSummary::Path path);
+
+class OccupancyGrid {
+ public:
+  // Throws ParameterError for invalid options.
+  explicit OccupancyGrid(const GlobalGridOptions& options = GlobalGridOptions());
+  ~OccupancyGrid();
+  OccupancyGrid(OccupancyGrid&&) noexcept;
+  OccupancyGrid& operator=(OccupancyGrid&&) noexcept;
+
+  const GlobalGridOptions& options() const;
+
+  // Caches a node's local grid (replacing a previous one, which then counts as moved at the
+  // next update). Returns false, with the reason in *why, for a grid the map cannot use: a cell
+  // size different from the map's, cells that are not CV_32FC2/3/4, non-finite cells, or an
+  // empty grid (which would add nothing and hide a failure upstream).
+  bool addLocalGrid(int nodeId, const LocalGrid& grid, std::string* why = nullptr);
+  bool hasLocalGrid(int nodeId) const;
+  void removeLocalGrid(int nodeId);  // and its cells, at the next update
+  size_t cachedNodes() const;
+
+  // Brings the map to the given graph (node id -> pose, e.g. the optimised poses): appends new
+  // nodes, re-assembles for moved or removed ones. Null or non-finite poses are ignored as
+  // absent.
+  GridUpdateSummary update(const std::map<int, Transform>& poses);
+  // Forces one path for the next re-assembly (benchmarks and tests measure both); kNone = choose.
+  void forceNextPath(GridUpdateSummary::Path path);
+
+  // The map: -1 / 0 / 100 cells over the bounding box of known cells, padded to
+  // GridGlobal/MinSize, with footprint clearing and erosion applied. Empty before any update.
+  GridMap map() const;
+  // Occupancy probability of the cell at (x, y): -1 when unknown or outside.
+  float probability(double x, double y) const;
+  // Nodes currently assembled, with the pose each was assembled at.
+  const std::map<int, Transform>& assembledPoses() const;
+  // Bytes held: the log-odds map, its bookkeeping and the cached local grids.
+  size_t memoryUsed() const;
+  void clear();  // map and cache
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rtabmap

@@ -1,0 +1,116 @@
+#pragma once
+// The cells of the global 2D grid and the operations the assembly paths are made of: apply a
+// node's cells at a pose (log-odds, one update per node and cell), clear tiles, footprint counts,
+// growth. Internal to the maps area (OccupancyGrid.cpp owns the policy).
+//
+// Storage: cell (col0 + i, row0 + j) of the world lattice floor(coordinate / cellSize) at index
+// j * width + i. col0 and row0 are multiples of the tile size, so a world tile (32 x 32 cells,
+// floor(col / 32), floor(row / 32)) is always one storage tile.
+#include <opencv2/core/types.hpp>
+
+#include <climits>
+#include <cstdint>
+#include <vector>
+
+#include "rtabmap_core/geometry/Transform.h"
+#include "rtabmap_core/maps/GridMap.h"
+
+namespace rtabmap::maps_detail {
+
+constexpr float kUnknownLogOdds = -1.0e9f;  // what logOddsAt() returns for an unknown cell
+// Log-odds are stored in fixed point, thousandths: a cell is 4 bytes with its stamp, so twice
+// as many cells stay in cache as with a float and a 32-bit stamp, and sums are exact integers.
+constexpr float kLogOddsScale = 1000.0f;
+constexpr int16_t kUnknownFixed = INT16_MIN;
+constexpr int kTileShift = 5;
+constexpr int kTile = 1 << kTileShift;
+
+inline int fastFloor(float v) {
+  const int i = static_cast<int>(v);
+  return i - (v < static_cast<float>(i));
+}
+
+// Inclusive cell bounds on the world lattice.
+struct CellBox {
+  int c0 = 0, r0 = 0, c1 = -1, r1 = -1;
+  bool empty() const { return c1 < c0 || r1 < r0; }
+  void unite(const CellBox& b);
+};
+
+// World tile key of a world cell.
+inline int64_t tileKey(int col, int row) {
+  return (static_cast<int64_t>(row >> kTileShift) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(col >> kTileShift));
+}
+inline int tileCol(int64_t key) { return static_cast<int32_t>(static_cast<uint32_t>(key & 0xffffffff)); }
+inline int tileRow(int64_t key) { return static_cast<int32_t>(key >> 32); }
+
+// A node's cells in its base frame, as separate x, y, z arrays (the projection of a batch of
+// cells then compiles to vector instructions): obstacles first, then free cells (ground, and
+// the empty cells of a 2D grid).
+struct NodeCells {
+  std::vector<float> x, y, z;
+  size_t obstacles = 0;  // the first `obstacles` cells
+  cv::Point3f lo{0, 0, 0}, hi{0, 0, 0};
+  float radius = 0.0f;  // farthest cell from the node's origin, in the plane
+
+  NodeCells() = default;
+  NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells);
+  size_t count() const { return x.size(); }
+};
+
+class GridStorage {
+ public:
+  GridStorage(float cellSize, float hit, float miss, float clampMin, float clampMax, bool footprint);
+
+  // Conservative bounds of a node's cells at a pose (and of a footprint disk).
+  CellBox boxAt(const NodeCells& n, const Transform& pose) const;
+  CellBox diskBox(const Transform& pose, float radius) const;
+  // The world tiles a node's cells fall in at a pose, sorted.
+  std::vector<int64_t> tilesAt(const NodeCells& n, const Transform& pose) const;
+
+  bool empty() const { return cells_.empty(); }
+  void reset(const CellBox& b);      // fresh storage covering b (all unknown)
+  void ensureCovers(const CellBox& b);  // grows, keeping the content
+  void release();
+
+  // Applies a node. With `masked`, only cells of dirty tiles are written. `tiles` (optional)
+  // receives the world tiles its cells fell in, sorted. Returns the cell updates made.
+  long apply(const NodeCells& n, const Transform& pose, bool masked, std::vector<int64_t>* tiles);
+  void addFootprint(const Transform& pose, float radius, int sign);
+
+  // Dirty tiles for the region path, in storage tiles.
+  void clearDirty();
+  void markDirty(int64_t worldTile);
+  void markDirty(const CellBox& b);
+  bool isDirty(int64_t worldTile) const;
+  long dirtyTiles() const;
+  void clearDirtyCells();  // sets the cells of dirty tiles unknown
+
+  // -1 / 0 / 100 over the known bounds, padded to minCells, footprint and erosion applied.
+  GridMap toMap(float thresholdFixed, int minCells, bool eroded) const;  // threshold in thousandths
+  float logOddsAt(double x, double y) const;  // kUnknownLogOdds when unknown or outside
+  long area() const { return static_cast<long>(width_) * height_; }
+  size_t bytes() const;
+
+ private:
+  size_t tileIndex(int64_t worldTile) const;
+  bool tileInside(int64_t worldTile) const;
+
+  float cellSize_;
+  int16_t hit_, miss_, min_, max_;  // fixed point
+  bool footprint_;
+  int col0_ = 0, row0_ = 0, width_ = 0, height_ = 0;
+  int tilesW_ = 0, tilesH_ = 0;
+  // A cell's log-odds and the serial of the last node that wrote it (one update per node and
+  // cell), side by side: a cell update touches one cache line, not two.
+  struct Cell {
+    int16_t logOdds = kUnknownFixed;
+    uint16_t stamp = 0;
+  };
+  std::vector<Cell> cells_;
+  uint16_t serial_ = 0;
+  std::vector<uint16_t> footprint_counts_;  // nodes whose footprint disk covers the cell
+  std::vector<uint8_t> dirty_;
+};
+
+}  // namespace rtabmap::maps_detail

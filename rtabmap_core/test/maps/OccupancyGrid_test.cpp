@@ -1,0 +1,411 @@
+// The global 2D occupancy grid: log-odds model, incremental vs full vs region re-assembly,
+// moved nodes, footprint, MinSize, nav_msgs layout, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "maps/MapsTestUtil.h"
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/maps/LocalGridMaker.h"
+#include "rtabmap_core/maps/LocalGridStages.h"
+#include "rtabmap_core/maps/OccupancyGrid.h"
+
+using namespace rtabmap;
+using Path = GridUpdateSummary::Path;
+
+namespace {
+
+struct ScanRun {
+  std::map<int, Transform> poses;
+  std::map<int, LocalGrid> grids;
+};
+
+// A robot driving down a 20 m x 3 m corridor with pillars, one node every 0.5 m.
+ScanRun corridorRun(int nodes, float cellSize = 0.05f) {
+  test::World2D world = test::World2D::room(0, 0, 20, 3);
+  for (int i = 0; i < 6; ++i) world.boxes.push_back({{2.0 + 3.0 * i, 2.2, -1}, {2.4 + 3.0 * i, 2.6, 1}});
+  LocalGridOptions o;
+  o.cellSize = cellSize;
+  o.rangeMax = 0.0f;
+  ScanRun run;
+  for (int i = 0; i < nodes; ++i) {
+    const Transform pose(1.0 + 0.5 * i, 1.2 + 0.1 * std::sin(i), 0.3 * std::sin(0.7 * i));
+    run.poses[i + 1] = pose;
+    run.grids[i + 1] = rayTraceScan2D(test::simulateScan(world, pose, 181, M_PI, 8.0), o);
+  }
+  return run;
+}
+
+GlobalGridOptions options(float cellSize = 0.05f) {
+  GlobalGridOptions o;
+  o.cellSize = cellSize;
+  return o;
+}
+
+void expectSameMap(const GridMap& a, const GridMap& b) {
+  ASSERT_FALSE(a.empty());
+  ASSERT_EQ(a.width(), b.width());
+  ASSERT_EQ(a.height(), b.height());
+  EXPECT_DOUBLE_EQ(a.originX, b.originX);
+  EXPECT_DOUBLE_EQ(a.originY, b.originY);
+  EXPECT_EQ(cv::countNonZero(a.data != b.data), 0);
+}
+
+LocalGrid handGrid(std::vector<cv::Vec2f> obstacles, std::vector<cv::Vec2f> free, float c = 0.05f) {
+  LocalGrid g;
+  g.cellSize = c;
+  if (!obstacles.empty()) g.obstacles = cv::Mat(obstacles, true).reshape(2, 1);
+  if (!free.empty()) g.ground = cv::Mat(free, true).reshape(2, 1);
+  return g;
+}
+
+std::map<int, Transform> shifted(const std::map<int, Transform>& poses, const Transform& t) {
+  std::map<int, Transform> out;
+  for (const auto& [id, p] : poses) out[id] = t * p;
+  return out;
+}
+
+}  // namespace
+
+TEST(OccupancyGrid, IncrementalAssemblyEqualsFullAndRegionReassembly) {
+  const ScanRun run = corridorRun(30);
+  OccupancyGrid incremental(options());
+  std::map<int, Transform> graph;
+  for (const auto& [id, pose] : run.poses) {
+    ASSERT_TRUE(incremental.addLocalGrid(id, run.grids.at(id)));
+    graph[id] = pose;
+    const GridUpdateSummary s = incremental.update(graph);
+    EXPECT_EQ(s.path, Path::kIncremental);
+    EXPECT_EQ(s.nodesAdded, 1);
+  }
+  // The same nodes first assembled at wrong poses, then re-assembled at the right ones.
+  for (Path path : {Path::kFull, Path::kRegion}) {
+    OccupancyGrid grid(options());
+    for (const auto& [id, g] : run.grids) grid.addLocalGrid(id, g);
+    grid.update(shifted(run.poses, Transform(0.7, -0.3, 0.2)));
+    grid.forceNextPath(path);
+    const GridUpdateSummary s = grid.update(run.poses);
+    EXPECT_EQ(s.path, path);
+    EXPECT_EQ(s.nodesMoved, 30);
+    SCOPED_TRACE(pathName(path));
+    expectSameMap(incremental.map(), grid.map());
+  }
+  const GridMap m = incremental.map();
+  EXPECT_GT(m.countOccupied(), 500);
+  EXPECT_GT(m.countFree(), 5000);
+}
+
+TEST(OccupancyGrid, MovingOneNodeMovesItsCellsAndTheRegionPathStaysExact) {
+  const ScanRun run = corridorRun(30);
+  OccupancyGrid grid(options());
+  for (const auto& [id, g] : run.grids) grid.addLocalGrid(id, g);
+  grid.update(run.poses);
+  // Optimisation moves the last three nodes by 0.4 m sideways.
+  std::map<int, Transform> moved = run.poses;
+  for (int id = 28; id <= 30; ++id) moved[id] = Transform(0, 0.4, 0) * moved[id];
+  const GridUpdateSummary s = grid.update(moved);
+  EXPECT_EQ(s.nodesMoved, 3);
+  EXPECT_EQ(s.path, Path::kRegion) << s.why;  // a small change: the region path is cheaper
+  EXPECT_LT(s.nodesReplayed, 30);
+  EXPECT_LT(s.estimatedRegionUnits, s.estimatedFullUnits);
+  OccupancyGrid fresh(options());
+  for (const auto& [id, g] : run.grids) fresh.addLocalGrid(id, g);
+  fresh.update(moved);
+  expectSameMap(fresh.map(), grid.map());
+}
+
+TEST(OccupancyGrid, ASingleNodesObstacleFollowsItsPose) {
+  OccupancyGrid grid(options());
+  ASSERT_TRUE(grid.addLocalGrid(1, handGrid({{2.02f, 0.01f}}, {{1.0f, 0.0f}})));
+  grid.update({{1, Transform::Identity()}});
+  EXPECT_EQ(grid.map().at(2.02, 0.01), GridMap::kOccupied);
+  const GridUpdateSummary s = grid.update({{1, Transform(1.0, 0.0, 0.0)}});
+  EXPECT_EQ(s.nodesMoved, 1);
+  const GridMap m = grid.map();
+  EXPECT_EQ(m.at(3.02, 0.01), GridMap::kOccupied);
+  EXPECT_EQ(m.at(2.02, 0.01), GridMap::kFree);  // its free cell moved to 2.0
+  EXPECT_EQ(m.countOccupied(), 1);
+  // A rotation about the node moves far cells: 90 degrees puts the obstacle on +y.
+  grid.update({{1, Transform(0.0, 0.0, M_PI / 2)}});
+  EXPECT_EQ(grid.map().at(-0.01, 2.02), GridMap::kOccupied);
+  EXPECT_EQ(grid.map().countOccupied(), 1);
+}
+
+TEST(OccupancyGrid, SmallPoseChangesBelowUpdateErrorKeepTheMap) {
+  OccupancyGrid grid(options());
+  grid.addLocalGrid(1, handGrid({{2.0f, 0.0f}}, {}));
+  grid.update({{1, Transform::Identity()}});
+  const GridUpdateSummary s = grid.update({{1, Transform(0.001, 0.0, 0.0)}});
+  EXPECT_EQ(s.path, Path::kNone);
+  EXPECT_EQ(s.nodesMoved, 0);
+  EXPECT_DOUBLE_EQ(grid.assembledPoses().at(1).x(), 0.0);  // still at the pose it was assembled at
+}
+
+TEST(OccupancyGrid, LogOddsClampingLetsACellChangeItsMind) {
+  const GlobalGridOptions o = options();
+  OccupancyGrid grid(o);
+  std::map<int, Transform> graph;
+  int id = 0;
+  auto observe = [&](bool occupied) {
+    ++id;
+    grid.addLocalGrid(id, occupied ? handGrid({{1.02f, 0.02f}}, {}) : handGrid({}, {{1.02f, 0.02f}}));
+    graph[id] = Transform::Identity();
+    grid.update(graph);
+    return grid.probability(1.02, 0.02);
+  };
+  EXPECT_NEAR(observe(true), o.probHit, 1e-3);  // first observation: the sensor model (log-odds in 1/1000)
+  for (int i = 0; i < 20; ++i) observe(true);
+  EXPECT_NEAR(grid.probability(1.02, 0.02), o.probClampingMax, 1e-3);  // clamped
+  // From the clamp, logit(0.971) / -logit(0.4) = 8.7 misses bring it to free, not 20.
+  // The grid keeps log-odds in thousandths.
+  const float lMax = std::round(1000 * std::log(o.probClampingMax / (1 - o.probClampingMax))) / 1000;
+  const float lMiss = std::round(1000 * std::log(o.probMiss / (1 - o.probMiss))) / 1000;
+  const int needed = static_cast<int>(std::ceil(lMax / -lMiss + 1e-6));
+  for (int i = 0; i < needed - 1; ++i) observe(false);
+  EXPECT_EQ(grid.map().at(1.02, 0.02), GridMap::kOccupied);
+  observe(false);
+  EXPECT_EQ(grid.map().at(1.02, 0.02), GridMap::kFree);
+  EXPECT_NEAR(grid.probability(1.02, 0.02), 1 / (1 + std::exp(-(lMax + needed * lMiss))), 1e-5);
+}
+
+TEST(OccupancyGrid, WithinOneNodeObstaclesWinOverItsFreeCells) {
+  OccupancyGrid grid(options());
+  grid.addLocalGrid(1, handGrid({{1.02f, 0.02f}}, {{1.03f, 0.03f}, {1.5f, 0.0f}}));
+  grid.update({{1, Transform::Identity()}});
+  EXPECT_EQ(grid.map().at(1.02, 0.02), GridMap::kOccupied);
+  EXPECT_NEAR(grid.probability(1.02, 0.02), 0.7f, 1e-3);
+}
+
+TEST(OccupancyGrid, NavMsgsLayoutRowZeroIsTheLowestY) {
+  OccupancyGrid grid(options());
+  grid.addLocalGrid(1, handGrid({{1.02f, -0.48f}}, {{0.52f, 0.77f}}));
+  grid.update({{1, Transform::Identity()}});
+  const GridMap m = grid.map();
+  EXPECT_FLOAT_EQ(m.resolution, 0.05f);
+  // The bounds are exactly the known cells: obstacle at the lowest row, free at the top row.
+  EXPECT_EQ(m.height(), 26);
+  EXPECT_EQ(m.width(), 11);
+  EXPECT_NEAR(m.originX, 0.50, 1e-6);  // 10 cells of the float resolution
+  EXPECT_NEAR(m.originY, -0.50, 1e-6);
+  EXPECT_EQ(m.data.at<int8_t>(0, 10), GridMap::kOccupied);
+  EXPECT_EQ(m.data.at<int8_t>(25, 0), GridMap::kFree);
+  EXPECT_EQ(m.data.at<int8_t>(10, 5), GridMap::kUnknown);
+  EXPECT_EQ(m.countFree() + m.countOccupied() + m.countUnknown(), 26 * 11);
+}
+
+TEST(OccupancyGrid, MinSizePadsTheMapEvenly) {
+  GlobalGridOptions o = options();
+  o.minSize = 2.0f;
+  OccupancyGrid grid(o);
+  grid.addLocalGrid(1, handGrid({{0.02f, 0.02f}}, {}));
+  grid.update({{1, Transform::Identity()}});
+  const GridMap m = grid.map();
+  EXPECT_EQ(m.width(), 40);
+  EXPECT_EQ(m.height(), 40);
+  EXPECT_EQ(m.countOccupied(), 1);
+  EXPECT_EQ(m.countUnknown(), 40 * 40 - 1);
+  EXPECT_EQ(m.at(0.02, 0.02), GridMap::kOccupied);
+}
+
+TEST(OccupancyGrid, FootprintClearsObstaclesWhereTheRobotHasBeen) {
+  GlobalGridOptions o = options();
+  o.footprintRadius = 0.3f;
+  OccupancyGrid grid(o);
+  // Node 1 sees an obstacle (a person) where node 2 later stands.
+  grid.addLocalGrid(1, handGrid({{1.02f, 0.02f}, {3.02f, 0.02f}}, {}));
+  grid.addLocalGrid(2, handGrid({{2.02f, 0.02f}}, {}));
+  grid.update({{1, Transform::Identity()}, {2, Transform(1.0, 0.0, 0.0)}});
+  GridMap m = grid.map();
+  EXPECT_EQ(m.at(1.02, 0.02), GridMap::kFree);
+  EXPECT_EQ(m.at(1.22, 0.02), GridMap::kFree);  // within the radius, unknown before: free now
+  EXPECT_EQ(m.at(3.02, 0.02), GridMap::kOccupied);
+  EXPECT_EQ(m.at(0.02, 0.02), GridMap::kFree);  // node 1's own footprint
+  // Moving node 2 away moves its footprint too.
+  grid.update({{1, Transform::Identity()}, {2, Transform(5.0, 5.0, 0.0)}});
+  m = grid.map();
+  EXPECT_EQ(m.at(1.02, 0.02), GridMap::kOccupied);
+  EXPECT_EQ(m.at(5.02, 5.02), GridMap::kFree);
+}
+
+TEST(OccupancyGrid, ErosionRemovesIsolatedObstacleCells) {
+  GlobalGridOptions o = options();
+  o.eroded = true;
+  OccupancyGrid grid(o);
+  std::vector<cv::Vec2f> free;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) free.emplace_back(0.025f + 0.05f * i, 0.025f + 0.05f * j);
+  grid.addLocalGrid(1, handGrid({{0.225f, 0.225f}, {0.025f, 0.475f}, {0.075f, 0.475f}}, free));
+  grid.update({{1, Transform::Identity()}});
+  const GridMap m = grid.map();
+  EXPECT_EQ(m.at(0.225, 0.225), GridMap::kFree);     // alone: a speck
+  EXPECT_EQ(m.at(0.025, 0.475), GridMap::kOccupied);  // part of a wall
+}
+
+TEST(OccupancyGrid, NodesLeavingTheGraphLeaveTheMap) {
+  OccupancyGrid grid(options());
+  grid.addLocalGrid(1, handGrid({{1.0f, 0.0f}}, {}));
+  grid.addLocalGrid(2, handGrid({{0.0f, 1.0f}}, {}));
+  grid.update({{1, Transform::Identity()}, {2, Transform::Identity()}});
+  EXPECT_EQ(grid.map().countOccupied(), 2);
+  const GridUpdateSummary s = grid.update({{2, Transform::Identity()}});
+  EXPECT_EQ(s.nodesRemoved, 1);
+  EXPECT_EQ(grid.map().countOccupied(), 1);
+  EXPECT_EQ(grid.map().at(1.0, 0.0), GridMap::kUnknown);
+}
+
+TEST(OccupancyGrid, MaxNodesKeepsTheNewestAndAltitudeDeltaOneFloor) {
+  GlobalGridOptions o = options();
+  o.maxNodes = 2;
+  OccupancyGrid grid(o);
+  for (int id = 1; id <= 3; ++id) grid.addLocalGrid(id, handGrid({{float(id), 0.0f}}, {}));
+  std::map<int, Transform> graph{{1, Transform::Identity()}, {2, Transform::Identity()}, {3, Transform::Identity()}};
+  grid.update(graph);
+  EXPECT_EQ(grid.map().at(1.0, 0.0), GridMap::kUnknown);
+  EXPECT_EQ(grid.map().countOccupied(), 2);
+
+  GlobalGridOptions a = options();
+  a.altitudeDelta = 1.0f;
+  OccupancyGrid floors(a);
+  for (int id = 1; id <= 3; ++id) floors.addLocalGrid(id, handGrid({{float(id), 0.0f}}, {}));
+  floors.update({{1, Transform(0, 0, 0, 0, 0, 0)}, {2, Transform(0, 0, 3, 0, 0, 0)}, {3, Transform(0, 0, 3.2, 0, 0, 0)}});
+  EXPECT_EQ(floors.map().countOccupied(), 2);  // node 1 is on the floor below
+}
+
+TEST(OccupancyGrid, OutOfOrderAndReplacedNodesGiveTheFullMap) {
+  const ScanRun run = corridorRun(12);
+  OccupancyGrid grid(options());
+  std::map<int, Transform> graph;
+  for (int id : {1, 2, 3, 7, 8, 9, 10, 11, 12}) {
+    grid.addLocalGrid(id, run.grids.at(id));
+    graph[id] = run.poses.at(id);
+  }
+  grid.update(graph);
+  for (int id : {4, 5, 6}) {  // retrieved from long-term memory later
+    grid.addLocalGrid(id, run.grids.at(id));
+    graph[id] = run.poses.at(id);
+  }
+  const GridUpdateSummary s = grid.update(graph);
+  EXPECT_NE(s.path, Path::kIncremental);
+  grid.addLocalGrid(5, run.grids.at(9));  // a node's grid recomputed (e.g. new parameters)
+  grid.update(graph);
+
+  OccupancyGrid fresh(options());
+  for (const auto& [id, g] : run.grids) fresh.addLocalGrid(id, id == 5 ? run.grids.at(9) : g);
+  fresh.update(graph);
+  expectSameMap(fresh.map(), grid.map());
+}
+
+TEST(OccupancyGrid, TheCostModelLearnsFromMeasuredPaths) {
+  const ScanRun run = corridorRun(40);
+  OccupancyGrid grid(options());
+  for (const auto& [id, g] : run.grids) grid.addLocalGrid(id, g);
+  grid.update(run.poses);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (int k = 0; k < 6; ++k) {
+    std::map<int, Transform> moved;
+    for (const auto& [id, p] : run.poses) moved[id] = Transform(noise(rng), noise(rng), 0.0) * p;
+    const GridUpdateSummary s = grid.update(moved);
+    EXPECT_NE(s.path, Path::kIncremental);
+    EXPECT_EQ(s.nodesMoved, 40);
+    EXPECT_GT(s.estimatedFullUnits, 0.0);
+    EXPECT_FALSE(s.why.empty());
+    OccupancyGrid fresh(options());
+    for (const auto& [id, g] : run.grids) fresh.addLocalGrid(id, g);
+    fresh.update(moved);
+    expectSameMap(fresh.map(), grid.map());
+  }
+}
+
+TEST(OccupancyGrid, FullUpdateFalseAlwaysTakesTheRegionPath) {
+  const ScanRun run = corridorRun(10);
+  GlobalGridOptions o = options();
+  o.fullUpdate = false;
+  OccupancyGrid grid(o);
+  for (const auto& [id, g] : run.grids) grid.addLocalGrid(id, g);
+  grid.update(run.poses);
+  EXPECT_EQ(grid.update(shifted(run.poses, Transform(1, 1, 0.3))).path, Path::kRegion);
+}
+
+TEST(OccupancyGrid, BadGridsAreRefusedWithAReason) {
+  OccupancyGrid grid(options());
+  std::string why;
+  EXPECT_FALSE(grid.addLocalGrid(1, LocalGrid(), &why));
+  EXPECT_NE(why.find("empty"), std::string::npos) << why;
+  EXPECT_FALSE(grid.addLocalGrid(2, handGrid({{1, 1}}, {}, 0.1f), &why));
+  EXPECT_NE(why.find("Grid/CellSize"), std::string::npos) << why;
+  EXPECT_FALSE(grid.addLocalGrid(3, handGrid({{std::nanf(""), 1}}, {}), &why));
+  EXPECT_NE(why.find("NaN"), std::string::npos) << why;
+  LocalGrid wrongType;
+  wrongType.cellSize = 0.05f;
+  wrongType.obstacles = cv::Mat(1, 3, CV_8UC1, cv::Scalar(1));
+  EXPECT_FALSE(grid.addLocalGrid(4, wrongType, &why));
+  EXPECT_EQ(grid.cachedNodes(), 0u);
+  // Poses without grids, null or non-finite poses add nothing, and say so.
+  const GridUpdateSummary s = grid.update({{1, Transform::Identity()}, {9, Transform()}});
+  EXPECT_EQ(s.nodesWithoutGrid, 1);
+  EXPECT_TRUE(grid.map().empty());
+}
+
+TEST(OccupancyGrid, InvalidOptionsAreParameterErrorsNamingTheKey) {
+  for (float c : {0.0f, -0.05f}) {
+    GlobalGridOptions o;
+    o.cellSize = c;
+    std::string why;
+    EXPECT_FALSE(o.IsValid(&why));
+    EXPECT_NE(why.find("Grid/CellSize"), std::string::npos);
+    try {
+      OccupancyGrid grid(o);
+      FAIL() << "cell size " << c << " accepted";
+    } catch (const ParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find("Grid/CellSize"), std::string::npos) << e.what();
+    }
+  }
+  GlobalGridOptions o;
+  o.probHit = 0.4f;
+  std::string why;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("GridGlobal/ProbHit"), std::string::npos);
+  for (const char* bad : {"0", "-1"}) {
+    try {
+      GlobalGridOptions::fromParameters({{"Grid/CellSize", bad}});
+      FAIL() << bad;
+    } catch (const ParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find("Grid/CellSize"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(LocalGridOptions::fromParameters({{"Grid/CellSize", bad}}), ParameterError);
+  }
+  const GlobalGridOptions fromDefaults = GlobalGridOptions::fromParameters({});
+  EXPECT_TRUE(fromDefaults.IsValid());
+  EXPECT_FLOAT_EQ(fromDefaults.probHit, 0.7f);
+}
+
+TEST(OccupancyGrid, LocalGridOptionsValidation) {
+  LocalGridOptions o;
+  std::string why;
+  EXPECT_TRUE(o.IsValid(&why)) << why;
+  o.cellSize = 0.0f;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("Grid/CellSize"), std::string::npos);
+  EXPECT_THROW(createLocalGrid(SensorData(), o), ParameterError);
+  o = LocalGridOptions();
+  o.rangeMin = 2.0f;
+  o.rangeMax = 1.0f;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("Grid/RangeMax"), std::string::npos);
+  o = LocalGridOptions();
+  o.normalsSegmentation = false;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("Grid/MaxGroundHeight"), std::string::npos);
+  o.sensor = LocalGridOptions::Sensor::kScan;  // a 2D scan does not segment
+  EXPECT_TRUE(o.IsValid(&why)) << why;
+  o = LocalGridOptions();
+  o.stereo.numDisparities = 20;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("StereoBM/NumDisparities"), std::string::npos);
+  const LocalGridOptions fromParams =
+      LocalGridOptions::fromParameters({{"Grid/CellSize", "0.1"}, {"Grid/DepthRoiRatios", "0.1 0 0 0.2"}});
+  EXPECT_FLOAT_EQ(fromParams.cellSize, 0.1f);
+  EXPECT_FLOAT_EQ(fromParams.depthRoiRatios[3], 0.2f);
+}
