@@ -1,0 +1,118 @@
+#pragma once
+// Visual registration (JFR 2019, 3.1.1): the rigid transform between two frames (or a feature
+// map and a frame) from their image features, used by visual odometry, loop closures and
+// proximity links (Reg/Strategy 0, and the first step of Reg/Strategy 2).
+//
+//   correspondences  descriptor NNDR matching (Vis/CorType 0), guided by the projection of
+//                    the reference points when a guess is given (Vis/CorGuessWinSize), or
+//                    optical flow (Vis/CorType 1)
+//   motion           PnP RANSAC from the reference 3D points to the new keypoints
+//                    (Vis/EstimationType 1) or 3D-3D RANSAC (0); optionally also backwards
+//                    and averaged (Vis/ForwardEstOnly false)
+//   refinement       optional two-view bundle adjustment (Vis/BundleAdjustment 3)
+//   acceptance       Vis/MinInliers, Vis/MeanInliersDistance, Vis/MinInliersDistribution
+//   covariance       from the median absolute deviation of the inliers' 3D errors
+//
+// The transform is the pose of `to`'s base frame in `from`'s base frame (to = from * T), as for
+// every registration of this library. Failure returns a null transform with
+// RegistrationInfo::rejectedMsg saying why in words.
+#include <opencv2/core/mat.hpp>
+#include <opencv2/core/types.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rtabmap_core/features/FeatureDetector.h"
+#include "rtabmap_core/geometry/CameraModel.h"
+#include "rtabmap_core/geometry/Transform.h"
+#include "rtabmap_core/params/Parameters.h"
+#include "rtabmap_core/registration/Correspondences.h"
+#include "rtabmap_core/registration/MotionEstimation.h"
+#include "rtabmap_core/registration/RegistrationInfo.h"
+
+namespace rtabmap {
+
+class SensorData;
+class Signature;
+
+struct RegistrationVisOptions {
+  FeatureOptions features;  // Vis/ feature group: used when a frame has no features yet
+  CorrespondenceOptions correspondences;
+  int estimationType = 1;   // Vis/EstimationType: 0 3D->3D, 1 3D->2D (PnP)
+  PnPOptions pnp;
+  RigidOptions rigid;
+  int minInliers = 20;      // Vis/MinInliers
+  bool forwardEstOnly = true;
+  float meanInliersDistance = 0.0f;     // m, 0 = no check
+  float minInliersDistribution = 0.0f;  // 0 = no check
+  int bundleAdjustment = 0;             // Vis/BundleAdjustment: 0 off, 3 Ceres
+  bool force3DoF = false;               // Reg/Force3DoF
+
+  // From Vis/*, Reg/Force3DoF and the detector groups; throws ParameterError on invalid values.
+  static RegistrationVisOptions fromParameters(const ParametersMap& parameters);
+  bool IsValid(std::string* why = nullptr) const;
+};
+
+// One side of a registration. A frame from a camera has keypoints and a valid camera model;
+// a feature map (F2M) has only 3D points and descriptors. points3D, descriptors rows and ids
+// (when given) have one entry per feature; keypoints too when present.
+struct VisualFrame {
+  std::vector<cv::KeyPoint> keypoints;  // in the (left) rectified image
+  std::vector<cv::Point3f> points3D;    // base frame; NaN when unknown
+  cv::Mat descriptors;
+  std::vector<int> ids;                 // word or map-point ids reported in RegistrationInfo
+  CameraModel model;                    // (left) camera, local transform base -> optical
+  double stereoBaseline = 0.0;          // m, > 0 for a stereo frame (bundle adjustment weights)
+  cv::Mat grey;                         // 8-bit grey image, needed by optical flow
+  // 3D points (base frame) of arbitrary image points of this frame, from its depth or stereo
+  // pair: lets optical flow, which moves keypoints, get 3D for 3D->3D estimation.
+  std::function<std::vector<cv::Point3f>(const std::vector<cv::KeyPoint>&)> points3DAt;
+
+  size_t size() const { return static_cast<size_t>(descriptors.rows > 0 ? descriptors.rows : static_cast<int>(points3D.size())); }
+  bool isMap() const { return keypoints.empty(); }
+  // A camera frame from sensor data and its features (camera model, grey image, points3DAt).
+  static VisualFrame fromSensorData(const SensorData& data, const ImageFeatures& features,
+                                    const StereoOptions& stereo = StereoOptions());
+};
+
+// The correspondences behind a result, for callers that update maps (F2M) or display them.
+struct VisualCorrespondences {
+  std::vector<cv::DMatch> matches;  // queryIdx: from feature, trainIdx: to feature (flow: from index)
+  std::vector<int> inliers;         // indices into matches
+  std::vector<cv::Point2f> toPoints;  // per match, its position in the `to` image
+};
+
+class RegistrationVis {
+ public:
+  // Throws ParameterError on invalid parameters.
+  explicit RegistrationVis(const ParametersMap& parameters = {});
+  explicit RegistrationVis(const RegistrationVisOptions& options);
+  ~RegistrationVis();
+  RegistrationVis(const RegistrationVis&) = delete;
+  RegistrationVis& operator=(const RegistrationVis&) = delete;
+
+  const RegistrationVisOptions& options() const { return options_; }
+  const FeatureDetector& detector() const { return *detector_; }
+
+  // Registration of two nodes. A node's features are its words (keypoints, 3D, descriptors)
+  // if it has some, else the features of its sensor data, else they are extracted now from its
+  // images (uncompressing them if needed) and stored in its sensor data (setFeatures), so the
+  // next registration of that node reuses them. `guess` (from -> to, null = none) guides the
+  // matching. Never throws on bad sensor data: the reason is in info->rejectedMsg.
+  Transform computeTransform(Signature& from, Signature& to, const Transform& guess = Transform(),
+                             RegistrationInfo* info = nullptr) const;
+
+  // Registration of two prepared frames.
+  Transform computeTransform(const VisualFrame& from, const VisualFrame& to, const Transform& guess,
+                             RegistrationInfo* info = nullptr, VisualCorrespondences* details = nullptr) const;
+
+ private:
+  VisualFrame frameOf(Signature& node, std::string* problem) const;
+
+  RegistrationVisOptions options_;
+  std::unique_ptr<FeatureDetector> detector_;
+};
+
+}  // namespace rtabmap

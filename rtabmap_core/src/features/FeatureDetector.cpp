@@ -1,0 +1,266 @@
+// The feature pipeline shared by odometry / registration (Vis/) and the vocabulary (Kp/).
+#include "rtabmap_core/features/FeatureDetector.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "OpenCvFeatures.h"
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/features/DepthFeatures.h"
+#include "rtabmap_core/geometry/SensorData.h"
+
+namespace rtabmap {
+
+struct FeatureDetector::Impl {
+  explicit Impl(const FeatureOptions& o) : opencv(o.type, o.detectorParameters) {}
+  features_detail::OpenCvFeatures opencv;
+};
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// 8-bit grey view of an 8-bit grey, BGR or BGRA image; empty for anything else.
+cv::Mat toGrey(const cv::Mat& image) {
+  if (image.depth() != CV_8U) return cv::Mat();
+  if (image.channels() == 1) return image;
+  cv::Mat grey;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  } else if (image.channels() == 4) {
+    cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
+  }
+  return grey;
+}
+
+std::string sizeText(const cv::Size& s) {
+  return std::to_string(s.width) + "x" + std::to_string(s.height);
+}
+
+cv::Rect roiOf(const cv::Size& size, const std::array<double, 4>& r) {
+  const int left = static_cast<int>(std::floor(r[0] * size.width));
+  const int right = static_cast<int>(std::floor(r[1] * size.width));
+  const int top = static_cast<int>(std::floor(r[2] * size.height));
+  const int bottom = static_cast<int>(std::floor(r[3] * size.height));
+  return cv::Rect(left, top, std::max(0, size.width - left - right), std::max(0, size.height - top - bottom));
+}
+
+bool isFinitePoint(const cv::Point3f& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+// Removes keypoints (and their 3D points and descriptor rows) for which keep(i) is false.
+template <typename Keep>
+void filterFeatures(ImageFeatures& f, Keep keep) {
+  std::vector<cv::KeyPoint> k;
+  std::vector<cv::Point3f> p;
+  std::vector<int> rows;
+  for (size_t i = 0; i < f.keypoints.size(); ++i) {
+    if (!keep(i)) continue;
+    k.push_back(f.keypoints[i]);
+    if (!f.points3D.empty()) p.push_back(f.points3D[i]);
+    rows.push_back(static_cast<int>(i));
+  }
+  if (k.size() == f.keypoints.size()) return;
+  cv::Mat d;
+  if (!f.descriptors.empty()) {
+    d.create(static_cast<int>(rows.size()), f.descriptors.cols, f.descriptors.type());
+    for (size_t i = 0; i < rows.size(); ++i) f.descriptors.row(rows[i]).copyTo(d.row(static_cast<int>(i)));
+  }
+  f.keypoints = std::move(k);
+  f.points3D = std::move(p);
+  f.descriptors = d;
+}
+
+}  // namespace
+
+FeatureDetector::FeatureDetector(const FeatureOptions& options) : options_(options) {
+  std::string why;
+  if (!options_.IsValid(&why)) throw ParameterError("feature detector: " + why);
+  impl_ = std::make_unique<Impl>(options_);
+}
+
+FeatureDetector::~FeatureDetector() = default;
+
+std::unique_ptr<FeatureDetector> FeatureDetector::create(const ParametersMap& parameters, FeatureGroup group) {
+  return std::make_unique<FeatureDetector>(FeatureOptions::fromParameters(parameters, group));
+}
+
+std::vector<cv::KeyPoint> FeatureDetector::detect(const cv::Mat& image, const cv::Mat& mask) const {
+  std::vector<cv::KeyPoint> keypoints;
+  if (options_.maxFeatures < 0 || image.empty()) return keypoints;
+  const cv::Mat grey = toGrey(image);
+  if (grey.empty()) throw FormatError("feature detection needs an 8-bit grey, BGR or BGRA image");
+  if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != grey.size())) {
+    throw FormatError("feature detection mask must be CV_8UC1 of the image size");
+  }
+  const cv::Rect roi = roiOf(grey.size(), options_.roiRatios);
+  if (roi.area() <= 0) return keypoints;
+  const int cells = options_.gridRows * options_.gridCols;
+  // Each cell keeps its share of the strongest: features spread over the image constrain the
+  // motion better than the same number bunched on the most textured object.
+  const int perCell = options_.maxFeatures > 0 ? std::max(1, options_.maxFeatures / cells) : 0;
+  for (int r = 0; r < options_.gridRows; ++r) {
+    for (int c = 0; c < options_.gridCols; ++c) {
+      const int x0 = roi.x + c * roi.width / options_.gridCols;
+      const int x1 = roi.x + (c + 1) * roi.width / options_.gridCols;
+      const int y0 = roi.y + r * roi.height / options_.gridRows;
+      const int y1 = roi.y + (r + 1) * roi.height / options_.gridRows;
+      const cv::Rect cell(x0, y0, x1 - x0, y1 - y0);
+      if (cell.area() <= 0) continue;
+      cv::Mat cellMask;
+      if (!mask.empty()) {
+        cellMask = mask(cell);
+        if (cv::countNonZero(cellMask) == 0) continue;
+      }
+      std::vector<cv::KeyPoint> cellKeypoints = impl_->opencv.detect(grey(cell), cellMask, perCell);
+      for (cv::KeyPoint& k : cellKeypoints) {
+        k.pt.x += static_cast<float>(cell.x);
+        k.pt.y += static_cast<float>(cell.y);
+        keypoints.push_back(k);
+      }
+    }
+  }
+  if (options_.subPixIterations > 0 && !keypoints.empty()) {
+    std::vector<cv::Point2f> points;
+    cv::KeyPoint::convert(keypoints, points);
+    cv::cornerSubPix(grey, points, cv::Size(options_.subPixWinSize, options_.subPixWinSize), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options_.subPixIterations,
+                                      options_.subPixEps));
+    for (size_t i = 0; i < keypoints.size(); ++i) keypoints[i].pt = points[i];
+  }
+  return keypoints;
+}
+
+cv::Mat FeatureDetector::compute(const cv::Mat& image, std::vector<cv::KeyPoint>& keypoints) const {
+  if (keypoints.empty() || image.empty()) {
+    keypoints.clear();
+    return cv::Mat();
+  }
+  const cv::Mat grey = toGrey(image);
+  if (grey.empty()) throw FormatError("feature description needs an 8-bit grey, BGR or BGRA image");
+  cv::Mat descriptors = impl_->opencv.compute(grey, keypoints);
+  if (descriptors.rows != static_cast<int>(keypoints.size())) keypoints.clear();
+  return descriptors;
+}
+
+ImageFeatures FeatureDetector::extract(const SensorData& data, FeatureExtractionInfo* infoOut) const {
+  FeatureExtractionInfo localInfo;
+  FeatureExtractionInfo& info = infoOut ? *infoOut : localInfo;
+  info = FeatureExtractionInfo();
+  ImageFeatures features;
+  auto problem = [&](const std::string& text) {
+    info.problem = text;
+    return ImageFeatures();
+  };
+
+  const cv::Mat& image = data.imageRaw();
+  if (image.empty()) return problem("no image");
+  const cv::Mat grey = toGrey(image);
+  if (grey.empty()) {
+    return problem("unsupported image type " + std::to_string(image.type()) + " (8-bit grey, BGR or BGRA expected)");
+  }
+  if (options_.maxFeatures < 0) return features;  // Kp/MaxFeatures < 0: no features wanted
+
+  const cv::Mat& depthOrRight = data.depthOrRightRaw();
+  cv::Mat mask;
+  cv::Mat rightGrey;
+  int decimation = 0;
+  if (data.isStereo()) {
+    const StereoCameraModel& model = data.stereoCameraModels().front();
+    if (data.stereoCameraModels().size() > 1) return problem("several stereo cameras are not supported");
+    if (!model.isValidForProjection()) {
+      return problem("stereo camera model not valid (fx " + std::to_string(model.left().fx()) + ", baseline " +
+                     std::to_string(model.baseline()) + ")");
+    }
+    if (depthOrRight.empty()) return problem("stereo frame without its right image");
+    rightGrey = toGrey(depthOrRight);
+    if (rightGrey.empty() || rightGrey.size() != grey.size()) {
+      return problem("right image " + sizeText(depthOrRight.size()) + " (type " + std::to_string(depthOrRight.type()) +
+                     ") does not match the left image " + sizeText(grey.size()));
+    }
+  } else {
+    if (data.cameraModels().size() > 1) {
+      return problem(std::to_string(data.cameraModels().size()) +
+                     " cameras side by side: visual features support one camera per frame");
+    }
+    if (!data.cameraModels().empty() && !data.cameraModels().front().isValidForProjection()) {
+      const CameraModel& m = data.cameraModels().front();
+      return problem("camera model not valid for projection (fx " + std::to_string(m.fx()) + ", fy " +
+                     std::to_string(m.fy()) + ")");
+    }
+    if (!depthOrRight.empty()) {
+      if (depthOrRight.type() != CV_16UC1 && depthOrRight.type() != CV_32FC1) {
+        return problem("unsupported depth type " + std::to_string(depthOrRight.type()) +
+                       " (CV_16UC1 mm or CV_32FC1 m expected)");
+      }
+      decimation = depthDecimationFactor(grey.size(), depthOrRight.size());
+      if (decimation == 0) {
+        return problem("depth " + sizeText(depthOrRight.size()) + " does not match the image " +
+                       sizeText(grey.size()) + " (it must be the same size or smaller by a whole factor)");
+      }
+      if (options_.depthAsMask) {
+        int valid = 0;
+        mask = depthMask(depthOrRight, grey.size(), options_.minDepth, options_.maxDepth, &valid);
+        if (valid == 0) return problem("depth image has no valid pixel in range (all zero, NaN or out of range)");
+      }
+    }
+  }
+
+  Clock::time_point t0 = Clock::now();
+  features.keypoints = detect(grey, mask);
+  info.detected = static_cast<int>(features.keypoints.size());
+  info.timeDetectionMs = msSince(t0);
+
+  t0 = Clock::now();
+  features.descriptors = compute(grey, features.keypoints);
+  info.described = static_cast<int>(features.keypoints.size());
+  info.timeDescriptionMs = msSince(t0);
+
+  t0 = Clock::now();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  if (data.isStereo()) {
+    std::vector<cv::Point2f> left;
+    cv::KeyPoint::convert(features.keypoints, left);
+    const std::vector<float> disparities = computeStereoDisparities(grey, rightGrey, left, options_.stereo);
+    const StereoCameraModel& model = data.stereoCameraModels().front();
+    features.points3D = keypoints3DFromDisparities(features.keypoints, disparities, model);
+    // Drop keypoints measured outside the depth range; keep those without disparity (their 2D
+    // position still constrains a PnP estimate).
+    filterFeatures(features, [&](size_t i) {
+      if (!isFinitePoint(features.points3D[i])) return true;
+      const double depth = model.computeDepth(disparities[i]);
+      return (options_.minDepth <= 0.0f || depth >= options_.minDepth) &&
+             (options_.maxDepth <= 0.0f || depth <= options_.maxDepth);
+    });
+  } else if (decimation > 0 && !data.cameraModels().empty()) {
+    const CameraModel& model = data.cameraModels().front();
+    features.points3D.assign(features.keypoints.size(), cv::Point3f(nan, nan, nan));
+    std::vector<char> keep(features.keypoints.size(), 1);
+    const Eigen::Isometry3d& local = model.localTransform().toEigen();
+    for (size_t i = 0; i < features.keypoints.size(); ++i) {
+      const float d = keypointDepth(depthOrRight, features.keypoints[i].pt, decimation);
+      if (d <= 0.0f) continue;
+      if ((options_.minDepth > 0.0f && d < options_.minDepth) || (options_.maxDepth > 0.0f && d > options_.maxDepth)) {
+        keep[i] = 0;
+        continue;
+      }
+      double x, y, z;
+      if (!model.project(features.keypoints[i].pt.x, features.keypoints[i].pt.y, d, x, y, z)) continue;
+      const Eigen::Vector3d p = local * Eigen::Vector3d(x, y, z);
+      features.points3D[i] = cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    }
+    filterFeatures(features, [&](size_t i) { return keep[i] != 0; });
+  }
+  info.with3D = features.validPoints3D();
+  info.time3DMs = msSince(t0);
+  return features;
+}
+
+}  // namespace rtabmap

@@ -1,0 +1,197 @@
+// The odometry base: motion model, external guess, lost / recovery / reset (JFR 2019, 3.1).
+#include "rtabmap_core/odometry/Odometry.h"
+
+#include <opencv2/core.hpp>
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <exception>
+
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/common/Log.h"
+
+namespace rtabmap {
+namespace {
+
+using Twist = Eigen::Matrix<double, 6, 1>;
+
+// Covariance reported when lost: the ROS convention for "no information".
+constexpr double kLostVariance = 9999.0;
+
+// Motion as a twist (translation, rotation vector), and back: scaling a twist scales the
+// motion along its screw, which Euler angles would not do.
+Twist toTwist(const Transform& t) {
+  const Eigen::AngleAxisd aa(t.rotationMatrix());
+  Twist v;
+  v.head<3>() = t.translation();
+  v.tail<3>() = aa.axis() * aa.angle();
+  return v;
+}
+
+Transform fromTwist(const Twist& v) {
+  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
+  const double angle = v.tail<3>().norm();
+  if (angle > 1e-12) iso.linear() = Eigen::AngleAxisd(angle, v.tail<3>() / angle).toRotationMatrix();
+  iso.translation() = v.head<3>();
+  return Transform(iso);
+}
+
+}  // namespace
+
+Odometry::Odometry(const ParametersMap& parameters) : parameters_(parameters) {
+  Parameters::validate(parameters_);
+  resetCountdown_ = Parameters::getInt(parameters_, Parameters::kOdomResetCountdown());
+  guessMotion_ = Parameters::getBool(parameters_, Parameters::kOdomGuessMotion());
+  guessSmoothingDelay_ = Parameters::getDouble(parameters_, Parameters::kOdomGuessSmoothingDelay());
+  force3DoF_ = Parameters::getBool(parameters_, Parameters::kRegForce3DoF());
+  holonomic_ = Parameters::getBool(parameters_, Parameters::kOdomHolonomic());
+}
+
+Transform Odometry::process(SensorData& data, OdometryInfo* info) { return process(data, Transform(), info); }
+
+Transform Odometry::predictMotion(double dt) const {
+  if (dt <= 0.0) return lastMotion_;
+  if (velocityTransform_.isNull()) return Transform();
+  return fromTwist(toTwist(velocityTransform_) * dt);
+}
+
+void Odometry::updateVelocity(const Transform& motion, double dt, double stamp) {
+  lastMotion_ = motion;
+  if (dt <= 0.0) {
+    velocityTransform_ = Transform();
+    velocityHistory_.clear();
+    return;
+  }
+  const Twist v = toTwist(motion) / dt;
+  if (guessSmoothingDelay_ <= 0.0) {
+    velocityTransform_ = fromTwist(v);
+    return;
+  }
+  // Average of the velocities of the last Odom/GuessSmoothingDelay seconds: a noisy single
+  // motion does not throw the next prediction off.
+  velocityHistory_.emplace_back(stamp, v);
+  while (!velocityHistory_.empty() && velocityHistory_.front().first < stamp - guessSmoothingDelay_) {
+    velocityHistory_.pop_front();
+  }
+  Twist mean = Twist::Zero();
+  for (const auto& [s, w] : velocityHistory_) mean += w;
+  mean /= static_cast<double>(velocityHistory_.size());
+  velocityTransform_ = fromTwist(mean);
+}
+
+Transform Odometry::reportLost(SensorData& data, OdometryInfo& info) {
+  ++lostCount_;
+  info.lost = true;
+  if (info.lostReason.empty()) info.lostReason = "no transform found";
+  info.transform = Transform();
+  info.covariance = Eigen::Matrix<double, 6, 6>::Identity() * kLostVariance;
+  // The motion model is no longer trustworthy: the next frame registers without prediction.
+  velocityTransform_ = Transform();
+  lastMotion_ = Transform();
+  velocityHistory_.clear();
+  data.setOdom(Transform(), info.covariance);
+  if (resetCountdown_ > 0 && lostCount_ >= resetCountdown_) {
+    RTABMAP_WARN("odometry lost for " << lostCount_ << " frames (Odom/ResetCountdown " << resetCountdown_
+                                      << "): reset at the last pose " << pose_.prettyPrint());
+    const Transform last = pose_;
+    reset(last);
+    info.autoReset = true;
+  }
+  return Transform();
+}
+
+Transform Odometry::process(SensorData& data, const Transform& externalGuess, OdometryInfo* infoOut) {
+  const auto start = std::chrono::steady_clock::now();
+  OdometryInfo localInfo;
+  OdometryInfo& info = infoOut ? *infoOut : localInfo;
+  info = OdometryInfo();
+  info.stamp = data.stamp();
+  const double dt = (previousStamp_ > 0.0 && data.stamp() > 0.0) ? data.stamp() - previousStamp_ : 0.0;
+  info.interval = dt;
+  auto finish = [&](const Transform& result) {
+    info.timeTotalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (data.stamp() > 0.0) previousStamp_ = data.stamp();
+    ++framesProcessed_;
+    return result;
+  };
+
+  const bool initialising = needsInitialisation();
+  Transform guess;
+  if (!initialising) {
+    if (!externalGuess.isNull()) {
+      guess = externalGuess;
+    } else if (guessMotion_) {
+      guess = predictMotion(dt);
+    }
+  }
+  info.guess = guess;
+
+  // Bad sensor data must never escape as an exception: it is a lost frame with its reason.
+  auto attempt = [&](const Transform& g) {
+    try {
+      return computeTransform(data, g, &info);
+    } catch (const Error& e) {
+      info.lostReason = e.what();
+    } catch (const cv::Exception& e) {
+      info.lostReason = std::string("OpenCV error: ") + e.what();
+    } catch (const std::exception& e) {
+      info.lostReason = e.what();
+    }
+    return Transform();
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  Transform motion = attempt(guess);
+  if (motion.isNull() && !guess.isNull() && !initialising) {
+    // A wrong prediction (sudden stop, jerk) can put the search windows in the wrong place:
+    // try once more matching over the whole image.
+    const std::string guided = info.lostReason;
+    info.lostReason.clear();
+    info.reg = RegistrationInfo();
+    info.retriedWithoutGuess = true;
+    motion = attempt(Transform());
+    if (motion.isNull()) {
+      info.lostReason += " (also tried with the motion prediction: " + guided + ")";
+    }
+  }
+  info.timeEstimationMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (motion.isNull() || motion.isInvalid()) {
+    if (!motion.isNull()) info.lostReason = "the transform found is not finite";
+    return finish(reportLost(data, info));
+  }
+
+  if (force3DoF_) motion = motion.to3DoF();
+  if (!holonomic_) {
+    // A non-holonomic base cannot slide sideways: its lateral displacement follows from the
+    // forward one and the heading change.
+    double x, y, z, roll, pitch, yaw;
+    motion.getTranslationAndEulerAngles(x, y, z, roll, pitch, yaw);
+    motion = Transform(x, x * std::tan(yaw), z, roll, pitch, yaw);
+  }
+  lostCount_ = 0;
+  pose_ = (pose_ * motion).normalized();
+  distanceTravelled_ += motion.getNorm();
+  updateVelocity(motion, dt, data.stamp());
+  info.lost = false;
+  info.lostReason.clear();
+  info.transform = motion;
+  info.distanceTravelled = distanceTravelled_;
+  if (info.covariance.isIdentity() && info.reg.success) info.covariance = info.reg.covariance;
+  data.setOdom(pose_, info.covariance);
+  return finish(pose_);
+}
+
+void Odometry::reset(const Transform& initialPose) {
+  pose_ = initialPose.isNull() ? Transform::Identity() : initialPose;
+  velocityTransform_ = Transform();
+  lastMotion_ = Transform();
+  velocityHistory_.clear();
+  previousStamp_ = 0.0;
+  framesProcessed_ = 0;
+  lostCount_ = 0;
+  distanceTravelled_ = 0.0;
+  resetMap(pose_);
+}
+
+}  // namespace rtabmap

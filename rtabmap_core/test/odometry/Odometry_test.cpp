@@ -1,0 +1,174 @@
+// The odometry base: factory, motion model, external guess, retry without prediction, lost
+// convention, reset countdown (with a scripted approach), and parameter errors.
+#include <gtest/gtest.h>
+
+#include <deque>
+
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/odometry/Odometry.h"
+
+namespace rtabmap {
+namespace {
+
+// An approach whose registration answers from a script, and records what it was asked.
+class ScriptedOdometry : public Odometry {
+ public:
+  explicit ScriptedOdometry(const ParametersMap& p = {}) : Odometry(p) {}
+  Type type() const override { return Type::kF2F; }
+
+  std::deque<Transform> answers;  // null = registration fails
+  std::vector<Transform> guesses;
+  int resets = 0;
+
+ protected:
+  Transform computeTransform(SensorData&, const Transform& guess, OdometryInfo* info) override {
+    guesses.push_back(guess);
+    if (!initialised_) {
+      initialised_ = true;
+      return Transform::Identity();
+    }
+    Transform t = answers.empty() ? Transform() : answers.front();
+    // A failed answer is consumed only when there is no guess, so a guided failure can be
+    // retried unguided with the next answer.
+    if (!answers.empty()) answers.pop_front();
+    if (t.isNull()) info->lostReason = "scripted failure";
+    return t;
+  }
+  void resetMap(const Transform&) override {
+    initialised_ = false;
+    ++resets;
+  }
+  bool needsInitialisation() const override { return !initialised_; }
+
+ private:
+  bool initialised_ = false;
+};
+
+SensorData frameAt(double stamp) {
+  SensorData d;
+  d.setStamp(stamp);
+  return d;
+}
+
+TEST(Odometry, ConstantVelocityPrediction) {
+  ScriptedOdometry odom;
+  const Transform step(0.1, 0.0, 0.0, 0.0, 0.0, 0.05);
+  odom.answers = {step, step};
+  SensorData a = frameAt(1.0), b = frameAt(1.1), c = frameAt(1.3);
+  OdometryInfo info;
+  EXPECT_TRUE(odom.process(a, &info).isIdentity());
+  EXPECT_TRUE(info.guess.isNull());  // first frame: nothing to predict from
+  odom.process(b, &info);
+  EXPECT_TRUE(info.guess.isNull());  // no velocity yet
+  const Transform pose = odom.process(c, &info);
+  // Twice the interval: twice the last motion.
+  ASSERT_FALSE(info.guess.isNull());
+  EXPECT_NEAR(info.guess.x(), 0.2, 1e-9);
+  EXPECT_NEAR(info.guess.yaw(), 0.1, 1e-9);
+  EXPECT_NEAR(info.interval, 0.2, 1e-12);
+  EXPECT_LT(pose.getDistance(step * step), 1e-9);
+  EXPECT_NEAR(info.distanceTravelled, 0.2, 1e-9);
+  EXPECT_EQ(odom.framesProcessed(), 3);
+}
+
+TEST(Odometry, ExternalGuessReplacesThePrediction) {
+  ScriptedOdometry odom;
+  odom.answers = {Transform(0.1, 0, 0, 0, 0, 0), Transform(0.1, 0, 0, 0, 0, 0)};
+  SensorData a = frameAt(1.0), b = frameAt(1.1), c = frameAt(1.2);
+  odom.process(a);
+  odom.process(b);
+  const Transform wheel(0.3, 0.1, 0, 0, 0, 0.2);
+  OdometryInfo info;
+  odom.process(c, wheel, &info);
+  EXPECT_EQ(info.guess, wheel);
+  EXPECT_EQ(odom.guesses.back(), wheel);
+}
+
+TEST(Odometry, RetriesWithoutPredictionThenReportsLost) {
+  ScriptedOdometry odom;
+  odom.answers = {Transform(0.1, 0, 0, 0, 0, 0), Transform(), Transform(0.1, 0, 0, 0, 0, 0)};
+  SensorData a = frameAt(1.0), b = frameAt(1.1), c = frameAt(1.2);
+  odom.process(a);
+  odom.process(b);
+  OdometryInfo info;
+  // Guided attempt fails, unguided one succeeds.
+  EXPECT_FALSE(odom.process(c, &info).isNull());
+  EXPECT_TRUE(info.retriedWithoutGuess);
+  ASSERT_GE(odom.guesses.size(), 2u);
+  EXPECT_FALSE(odom.guesses[odom.guesses.size() - 2].isNull());
+  EXPECT_TRUE(odom.guesses.back().isNull());
+  // Both fail: lost, null pose, 9999 covariance, the odometry of the frame cleared.
+  odom.answers = {Transform(), Transform()};
+  SensorData d = frameAt(1.3);
+  EXPECT_TRUE(odom.process(d, &info).isNull());
+  EXPECT_TRUE(info.lost);
+  EXPECT_NE(info.lostReason.find("scripted failure"), std::string::npos) << info.lostReason;
+  EXPECT_DOUBLE_EQ(info.covariance(0, 0), 9999.0);
+  EXPECT_TRUE(d.odomPose().isNull());
+  EXPECT_DOUBLE_EQ(d.odomCovariance()(3, 3), 9999.0);
+  EXPECT_EQ(odom.lostCount(), 1);
+  // Recovery: no prediction after a loss; the pose continues from the last one.
+  odom.answers = {Transform(0.1, 0, 0, 0, 0, 0)};
+  SensorData e = frameAt(1.4);
+  const Transform pose = odom.process(e, &info);
+  EXPECT_TRUE(info.guess.isNull());
+  EXPECT_NEAR(pose.x(), 0.3, 1e-9);
+  EXPECT_EQ(odom.lostCount(), 0);
+  EXPECT_FALSE(e.odomPose().isNull());
+}
+
+TEST(Odometry, ResetCountdownAndManualReset) {
+  ScriptedOdometry odom(ParametersMap{{"Odom/ResetCountdown", "3"}});
+  odom.answers = {Transform(0.5, 0, 0, 0, 0, 0)};
+  SensorData a = frameAt(1.0), b = frameAt(1.1);
+  odom.process(a);
+  odom.process(b);
+  OdometryInfo info;
+  for (int i = 0; i < 3; ++i) {
+    SensorData d = frameAt(1.2 + 0.1 * i);
+    odom.process(d, &info);
+    EXPECT_TRUE(info.lost);
+    EXPECT_EQ(info.autoReset, i == 2);
+  }
+  EXPECT_EQ(odom.resets, 1);
+  EXPECT_NEAR(odom.getPose().x(), 0.5, 1e-9);  // reset at the last pose
+  odom.reset(Transform(1, 2, 3, 0, 0, 0));
+  EXPECT_EQ(odom.framesProcessed(), 0);
+  EXPECT_NEAR(odom.getPose().y(), 2.0, 1e-12);
+}
+
+TEST(Odometry, Force3DoFAndNonHolonomic) {
+  ScriptedOdometry flat(ParametersMap{{"Reg/Force3DoF", "true"}});
+  flat.answers = {Transform(0.1, 0.05, 0.2, 0.1, 0.1, 0.2)};
+  SensorData a = frameAt(1.0), b = frameAt(1.1);
+  flat.process(a);
+  const Transform p = flat.process(b);
+  EXPECT_DOUBLE_EQ(p.z(), 0.0);
+  EXPECT_NEAR(p.roll(), 0.0, 1e-12);
+  ScriptedOdometry car(ParametersMap{{"Odom/Holonomic", "false"}});
+  car.answers = {Transform(0.2, 0.5, 0, 0, 0, 0.1)};
+  SensorData c = frameAt(1.0), d = frameAt(1.1);
+  car.process(c);
+  const Transform q = car.process(d);
+  EXPECT_NEAR(q.y(), 0.2 * std::tan(0.1), 1e-9);
+}
+
+TEST(Odometry, FactoryAndNames) {
+  EXPECT_EQ(Odometry::create()->type(), Odometry::Type::kF2M);
+  EXPECT_EQ(Odometry::create({{"Odom/Strategy", "1"}})->type(), Odometry::Type::kF2F);
+  EXPECT_EQ(Odometry::create(Odometry::Type::kF2F)->type(), Odometry::Type::kF2F);
+  // Reg/Strategy 1 (ICP only) selects the lidar approaches.
+  EXPECT_EQ(Odometry::create({{"Reg/Strategy", "1"}})->type(), Odometry::Type::kS2M);
+  EXPECT_EQ(Odometry::create({{"Reg/Strategy", "1"}, {"Odom/Strategy", "1"}})->type(), Odometry::Type::kS2S);
+  EXPECT_EQ(Odometry::create(Odometry::Type::kS2S)->type(), Odometry::Type::kS2S);
+  EXPECT_EQ(Odometry::typeFromName("f2m"), Odometry::Type::kF2M);
+  EXPECT_EQ(Odometry::typeFromName("S2S"), Odometry::Type::kS2S);
+  EXPECT_EQ(Odometry::typeName(Odometry::Type::kS2M), "S2M");
+  EXPECT_THROW(Odometry::typeFromName("icp"), ParameterError);
+  EXPECT_THROW(Odometry::create({{"Odom/NoSuchKey", "1"}}), ParameterError);
+  EXPECT_THROW(Odometry::create({{"Vis/MinDepth", "5"}, {"Vis/MaxDepth", "1"}}), ParameterError);
+  EXPECT_THROW(Odometry::create({{"Odom/KeyFrameThr", "2"}}), ParameterError);
+}
+
+}  // namespace
+}  // namespace rtabmap

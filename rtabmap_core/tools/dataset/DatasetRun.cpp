@@ -1,0 +1,205 @@
+#include "dataset/DatasetRun.h"
+
+#include <algorithm>
+#include <numeric>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/eval/TrajectoryError.h"
+
+namespace rtabmap::tools::dataset {
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+Transform cameraLocalOf(const SensorData& data) {
+  if (data.isStereo()) return data.stereoCameraModels().front().localTransform();
+  if (!data.cameraModels().empty()) return data.cameraModels().front().localTransform();
+  return Transform();
+}
+
+}  // namespace
+
+OdometryStage::OdometryStage(const RunOptions& options) : wheelGuess_(options.wheelOdometryGuess) {
+  odometry_ = options.odometry ? Odometry::create(*options.odometry, options.parameters)
+                               : Odometry::create(options.parameters);
+}
+
+std::optional<FrameResult> OdometryStage::process(DatasetRecord& record) {
+  if (record.kind == DatasetRecord::Kind::kOdometry) {
+    if (!record.data.odomPose().isNull()) latestWheel_ = record.data.odomPose();
+    return std::nullopt;
+  }
+  if (record.kind != DatasetRecord::Kind::kFrame) return std::nullopt;
+  SensorData& data = record.data;
+  // The frame's own wheel odometry, else the latest odometry record before it. Read before
+  // process(), which overwrites the frame's odometry pose with its own result.
+  if (!data.odomPose().isNull()) latestWheel_ = data.odomPose();
+  Transform guess;
+  if (wheelGuess_ && !latestWheel_.isNull() && !previousWheel_.isNull()) guess = previousWheel_.inverse() * latestWheel_;
+  if (!latestWheel_.isNull()) previousWheel_ = latestWheel_;
+
+  FrameResult result;
+  result.id = data.id();
+  result.stamp = record.stamp;
+  result.groundTruth = data.groundTruth();
+  result.cameraLocal = cameraLocalOf(data);
+  result.pose = odometry_->process(data, guess, &result.info);
+  // Per-feature ids are for display; a long run does not need to keep them.
+  result.info.reg.matchesIDs.clear();
+  result.info.reg.inliersIDs.clear();
+  return result;
+}
+
+void RunStatistics::add(const FrameResult& frame) { frames_.push_back(frame); }
+
+Trajectory RunStatistics::estimate(bool cameraFrame) const {
+  Trajectory t;
+  for (const FrameResult& f : frames_) {
+    if (f.pose.isNull()) continue;
+    if (cameraFrame && f.cameraLocal.isNull()) continue;
+    t.add(f.stamp, cameraFrame ? f.pose * f.cameraLocal : f.pose);
+  }
+  return t;
+}
+
+Trajectory RunStatistics::groundTruth(bool cameraFrame) const {
+  Trajectory t;
+  for (const FrameResult& f : frames_) {
+    if (f.groundTruth.isNull()) continue;
+    if (cameraFrame && f.cameraLocal.isNull()) continue;
+    t.add(f.stamp, cameraFrame ? f.groundTruth * f.cameraLocal : f.groundTruth);
+  }
+  return t;
+}
+
+void RunStatistics::writeOutputs() const {
+  if (options_.outputDir.empty()) {
+    writeFramesCsv();
+    return;
+  }
+  std::filesystem::create_directories(options_.outputDir);
+  writeTrajectory(options_.outputDir + "/odom.tum", estimate(false), TrajectoryFormat::kTum);
+  const Trajectory gt = groundTruth(false);
+  if (!gt.empty()) writeTrajectory(options_.outputDir + "/gt.tum", gt, TrajectoryFormat::kTum);
+  writeFramesCsv();
+}
+
+void RunStatistics::writeFramesCsv() const {
+  if (options_.framesCsv.empty()) return;
+  std::ofstream out(options_.framesCsv);
+  if (!out) throw Error("cannot write " + options_.framesCsv);
+  out << "id,stamp,lost,features,matches,inliers,key_frame,local_map,ms,x,y,z,gt_x,gt_y,gt_z,reason\n";
+  out << std::setprecision(9);
+  for (const FrameResult& f : frames_) {
+    out << f.id << "," << f.stamp << "," << f.info.lost << "," << f.info.features << "," << f.info.reg.matches << ","
+        << f.info.reg.inliers << "," << f.info.keyFrameAdded << "," << f.info.localMapSize << "," << f.info.timeTotalMs;
+    for (const Transform* t : {&f.pose, &f.groundTruth}) {
+      if (t->isNull()) {
+        out << ",,,";
+      } else {
+        out << "," << t->x() << "," << t->y() << "," << t->z();
+      }
+    }
+    std::string reason = f.info.lostReason;
+    std::replace(reason.begin(), reason.end(), ',', ';');
+    out << "," << reason << "\n";
+  }
+}
+
+nlohmann::json RunStatistics::toJson() const {
+  nlohmann::json j;
+  j["format"] = options_.format;
+  j["dataset"] = options_.path;
+  j["odometry"] = approach_;
+  std::vector<double> times, features, inliers;
+  int lost = 0, keyFrames = 0, resets = 0;
+  double distance = 0.0;
+  for (const FrameResult& f : frames_) {
+    times.push_back(f.info.timeTotalMs);
+    features.push_back(f.info.features);
+    if (f.info.lost) {
+      ++lost;
+    } else {
+      inliers.push_back(f.info.reg.inliers);
+      distance = f.info.distanceTravelled;
+    }
+    keyFrames += f.info.keyFrameAdded ? 1 : 0;
+    resets += f.info.autoReset ? 1 : 0;
+  }
+  j["frames"] = frames_.size();
+  j["lost"] = lost;
+  j["key_frames"] = keyFrames;
+  j["resets"] = resets;
+  j["odom_ms_median"] = median(times);
+  j["odom_ms_mean"] = times.empty() ? 0.0 : std::accumulate(times.begin(), times.end(), 0.0) / static_cast<double>(times.size());
+  j["odom_ms_max"] = times.empty() ? 0.0 : *std::max_element(times.begin(), times.end());
+  j["features_median"] = median(features);
+  j["inliers_median"] = median(inliers);
+  j["distance_m"] = distance;
+  const Trajectory gt = groundTruth(options_.ateInCameraFrame);
+  const Trajectory est = estimate(options_.ateInCameraFrame);
+  if (!gt.empty()) {
+    j["ate_frame"] = options_.ateInCameraFrame ? "camera" : "base";
+    try {
+      AteOptions ate;
+      ate.maxTimeDifference = 0.001;  // the same frames on both sides
+      const AteResult r = computeAte(gt, est, ate);
+      j["odom_ate_rmse"] = r.translation.rmse;
+      j["odom_ate_mean"] = r.translation.mean;
+      j["odom_ate_median"] = r.translation.median;
+      j["odom_ate_max"] = r.translation.max;
+      j["ate_poses"] = r.pairs.size();
+    } catch (const Error& e) {
+      j["ate_error"] = e.what();
+    }
+  }
+  if (!options_.outputDir.empty()) j["odom_tum"] = options_.outputDir + "/odom.tum";
+  return j;
+}
+
+void RunStatistics::printText(std::ostream& out) const {
+  const nlohmann::json j = toJson();
+  out << std::fixed << std::setprecision(2);
+  out << "odometry: " << approach_ << " on " << options_.format << " " << options_.path << "\n";
+  out << "frames: " << j["frames"].get<size_t>() << " (lost " << j["lost"].get<int>() << ", key frames "
+      << j["key_frames"].get<int>() << ", resets " << j["resets"].get<int>() << ")\n";
+  out << "odometry time: median " << j["odom_ms_median"].get<double>() << " ms, mean " << j["odom_ms_mean"].get<double>()
+      << " ms, max " << j["odom_ms_max"].get<double>() << " ms\n";
+  out << "features per frame (median): " << j["features_median"].get<double>() << ", inliers (median): "
+      << j["inliers_median"].get<double>() << "\n";
+  out << "distance travelled: " << j["distance_m"].get<double>() << " m\n";
+  if (j.contains("odom_ate_rmse")) {
+    out << std::setprecision(4) << "ATE (" << j["ate_frame"].get<std::string>() << " frame, " << j["ate_poses"].get<size_t>()
+        << " poses): RMSE " << j["odom_ate_rmse"].get<double>() << " m, mean " << j["odom_ate_mean"].get<double>()
+        << " m, max " << j["odom_ate_max"].get<double>() << " m\n";
+  } else if (j.contains("ate_error")) {
+    out << "ATE not computed: " << j["ate_error"].get<std::string>() << "\n";
+  }
+  if (j.contains("odom_tum")) out << "trajectory: " << j["odom_tum"].get<std::string>() << "\n";
+}
+
+RunStatistics runDataset(const RunOptions& options, const std::function<void(size_t, int)>& progress) {
+  std::unique_ptr<DatasetReader> reader = openDatasetReader(options.format, options.path, options.reader);
+  OdometryStage odometry(options);
+  RunStatistics statistics(options);
+  statistics.setApproach(Odometry::typeName(odometry.odometry().type()));
+  const int expected = reader->frameCount();
+  DatasetRecord record;
+  while (reader->next(record)) {
+    std::optional<FrameResult> frame = odometry.process(record);
+    if (!frame) continue;
+    statistics.add(*frame);
+    if (progress) progress(statistics.frames(), expected);
+  }
+  return statistics;
+}
+
+}  // namespace rtabmap::tools::dataset
