@@ -1,0 +1,43 @@
+#pragma once
+// What the sync nodelets do with a synchronised set, without ROS plumbing (unit-tested):
+// check the messages through rtabmap_conversions and build the core frame, or say precisely
+// what is wrong (which topic, which field) so the node can log it and go on.
+#include <rtabmap_ros/RGBDImage.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include <optional>
+#include <string>
+
+#include "rtabmap_core/geometry/SensorData.h"
+
+namespace rtabmap_sync {
+
+struct RgbdFrameOptions {
+  // Keep one pixel in `decimation` per axis; the image size must be a multiple of it. The
+  // camera model is scaled with the images.
+  int decimation = 1;
+  // Multiplies every depth value (corrects a sensor's depth scale error).
+  double depthScale = 1.0;
+};
+
+// rgb/image + depth/image + rgb/camera_info -> an RGB-D frame stamped with the rgb stamp.
+// Errors: undecodable or empty images, unknown encodings (rgb: mono8/bgr8/rgb8/bgra8/rgba8/
+// bayer; depth: 16UC1/mono16/32FC1), an invalid camera_info (zero K, ...), sizes that differ
+// between the images and the camera_info, a decimation that does not divide the size.
+std::optional<rtabmap::SensorData> rgbdFrame(const sensor_msgs::Image& rgb, const sensor_msgs::Image& depth,
+                                             const sensor_msgs::CameraInfo& info,
+                                             const RgbdFrameOptions& options = {}, std::string* error = nullptr);
+
+// left/image_rect + right/image_rect + both camera_infos (rectified, right Tx < 0) -> a stereo
+// frame (right image as grey, as the core's stereo matching wants it).
+std::optional<rtabmap::SensorData> stereoFrame(const sensor_msgs::Image& left, const sensor_msgs::Image& right,
+                                               const sensor_msgs::CameraInfo& leftInfo,
+                                               const sensor_msgs::CameraInfo& rightInfo,
+                                               std::string* error = nullptr);
+
+// An RGBDImage rgbdx_sync may bundle: an image (raw or compressed) and a valid camera_info.
+// Images are not decoded (the consumer does), so this stays cheap.
+bool checkRgbdImage(const rtabmap_ros::RGBDImage& msg, std::string* error = nullptr);
+
+}  // namespace rtabmap_sync
