@@ -13,7 +13,8 @@
 namespace rtabmap::tools::console {
 
 struct ConsoleOptions {
-  std::string imagesPath;
+  // Datasets processed one after the other by the same memory (several sessions of one map).
+  std::vector<std::string> inputs;
   std::string format = "images";  // any dataset format (rtabmap-eval's readers): its camera images are used
   std::string outputDir = ".";
   std::string groundTruthPath;  // "" = no scoring
@@ -30,6 +31,7 @@ struct ConsoleReport {
   int maxWmSize = 0, maxVocabularySize = 0;
   int transferred = 0, retrieved = 0;
   std::string databasePath, logPath, detectionsPath;
+  std::string groundTruthPath;  // written when the dataset has ground truth ("" otherwise)
   std::optional<LoopClosurePR> pr;  // with a ground truth: at Rtabmap/LoopThr, and the sweep
 };
 

@@ -13,7 +13,10 @@ int main(int argc, char** argv) {
         "rtabmap-console",
         "Appearance-based loop-closure detection (RTAB-Map, T-RO 2013) over the images of a folder, "
         "in the natural order of their names, one location per image.");
-    cli.addPositional("images", "Folder of images (jpg, png, bmp, pgm, ...).");
+    cli.addPositionalList("inputs",
+                          "Folder of images (jpg, png, bmp, pgm, ...), or datasets of --format. Several: processed "
+                          "one after the other by the same memory, as sessions of one map.",
+                          1);
     cli.addOption("output", "DIR", "Where to write rtabmap.db (overwritten), log.txt and detections.txt.", ".");
     cli.addOption("gt", "FILE",
                   "Ground-truth loop matrix (N x N image, e.g. GT.png / GT.bmp, or text): prints precision, "
@@ -28,11 +31,13 @@ int main(int argc, char** argv) {
         "(loop-closure probability), WM size, vocabulary size, update time (ms, features excluded).\n"
         "detections.txt: `image matched_image value` per image, the highest hypothesis whether accepted or "
         "not, for `rtabmap-eval pr --threshold <Rtabmap/LoopThr>`.\n"
+        "groundtruth.txt (datasets with ground truth): the pose of each image in image order (TUM), for "
+        "`rtabmap-eval pr --gt`.\n"
         "Example: rtabmap-console --Rtabmap/TimeThr 700 --gt GT.png --json NewCollege/");
     if (auto exitCode = cli.parse(argc, argv)) return *exitCode;
 
     rtabmap::tools::console::ConsoleOptions options;
-    options.imagesPath = cli.positional("images");
+    options.inputs = cli.positionalList("inputs");
     options.outputDir = cli.option("output");
     options.groundTruthPath = cli.has("gt") ? cli.option("gt") : "";
     options.maxImages = cli.optionInt("max-images");

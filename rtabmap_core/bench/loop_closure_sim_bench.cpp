@@ -1,0 +1,175 @@
+// bench-loop_closure_sim_bench: appearance-based loop closure and memory management on the
+// simulator, with exact ground truth (the loop-closure issue's "How it is shown"):
+//  - scenarios `loop` and `multisession` (three sessions, one memory) at 1 image per second:
+//    precision at default parameters and the recall at 100% precision (rtabmap-eval pr, a loop
+//    = views within 2 m and 30 degrees, at least 10 images apart);
+//  - scenario `long` (two hours, 1 Hz, images only) with Rtabmap/TimeThr 100 ms and 0: update
+//    time percentiles after the budget is first exceeded (goal: p99 <= 1.2 x TimeThr), the
+//    largest Working Memory, loop closures accepted in the second hour (revisits found through
+//    retrieval), and the same figures without a budget (the growth the budget avoids).
+// Runs the tools next to it (rtabmap-sim, rtabmap-console, rtabmap-eval); datasets are cached in
+// the work folder (default build/bench_output/loop_closure_sim). Human-readable lines, then one
+// JSON line.
+//
+// Usage: bench-loop_closure_sim_bench [--work DIR] [--long-duration S] [--no-long]
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+namespace {
+
+std::string toolsDir;
+
+// Runs a tool with --json and returns its last stdout line parsed; throws on failure.
+Json runJson(const std::string& tool, const std::string& arguments) {
+  const std::string command = (fs::path(toolsDir) / tool).string() + " --json " + arguments + " 2>/dev/null";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) throw std::runtime_error("cannot run " + command);
+  std::string out, last;
+  char buffer[4096];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) out.append(buffer, n);
+  const int status = ::pclose(pipe);
+  if (status != 0) throw std::runtime_error(command + " failed (status " + std::to_string(status) + ")");
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    if (!line.empty()) last = line;
+  }
+  return Json::parse(last);
+}
+
+// Simulated images only (no stereo, no lasers): what appearance-based loop closure needs.
+std::vector<std::string> simulate(const std::string& scenario, const fs::path& dir, const std::string& extra) {
+  if (!fs::exists(dir / "info.yaml")) {
+    std::cout << "simulating " << scenario << " into " << dir << " ..." << std::endl;
+    runJson("rtabmap-sim", "--scenario " + scenario + " --no-stereo --no-urg --no-utm --overwrite " + extra +
+                               " --output " + dir.string());
+  }
+  std::vector<std::string> sessions;
+  for (const char* s : {"session1", "session2", "session3"}) {
+    if (fs::exists(dir / s / "info.yaml")) sessions.push_back((dir / s).string());
+  }
+  if (sessions.empty()) sessions.push_back(dir.string());
+  return sessions;
+}
+
+Json console(const std::vector<std::string>& inputs, const fs::path& out, const std::string& parameters) {
+  std::string args = "--format sim --output " + out.string() + " " + parameters;
+  for (const auto& i : inputs) args += " " + i;
+  return runJson("rtabmap-console", args);
+}
+
+Json scorePr(const fs::path& out) {
+  return runJson("rtabmap-eval", "pr --detections " + (out / "detections.txt").string() + " --gt " +
+                                     (out / "groundtruth.txt").string() +
+                                     " --gt-type poses --distance 2 --angle 30 --min-gap 10 --threshold 0.11");
+}
+
+struct LogFigures {
+  double p50 = 0, p99 = 0, max = 0;
+  int firstOverBudget = -1;  // image where the update first exceeded the budget
+  int maxWm = 0, loopClosuresSecondHalf = 0, images = 0;
+};
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
+}
+
+// log.txt: image location loop_id highest_id highest_value wm_size vocabulary_size update_ms
+LogFigures readLog(const fs::path& log, double budgetMs) {
+  struct Row { int loop; int wm; double ms; };
+  std::vector<Row> rows;
+  std::ifstream in(log);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    int image, location, loop, highest, wm, vocabulary;
+    double value, ms;
+    if (s >> image >> location >> loop >> highest >> value >> wm >> vocabulary >> ms) rows.push_back({loop, wm, ms});
+  }
+  LogFigures f;
+  f.images = static_cast<int>(rows.size());
+  std::vector<double> after;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (f.firstOverBudget < 0 && budgetMs > 0 && rows[i].ms > budgetMs) f.firstOverBudget = static_cast<int>(i) + 1;
+    if (budgetMs <= 0 || f.firstOverBudget >= 0) after.push_back(rows[i].ms);
+    f.maxWm = std::max(f.maxWm, rows[i].wm);
+    if (i >= rows.size() / 2 && rows[i].loop) ++f.loopClosuresSecondHalf;
+    f.max = std::max(f.max, rows[i].ms);
+  }
+  f.p50 = percentile(after, 0.5);
+  f.p99 = percentile(after, 0.99);
+  return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  toolsDir = fs::path(argv[0]).parent_path().string();
+  fs::path work = fs::path(toolsDir) / ".." / "bench_output" / "loop_closure_sim";
+  std::string longDuration;
+  bool runLong = true;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--work") && i + 1 < argc) work = argv[++i];
+    else if (!std::strcmp(argv[i], "--long-duration") && i + 1 < argc) longDuration = argv[++i];
+    else if (!std::strcmp(argv[i], "--no-long")) runLong = false;
+  }
+  fs::create_directories(work);
+  Json result = {{"bench", "loop_closure_sim"}};
+  try {
+    for (const std::string scenario : {"loop", "multisession"}) {
+      const auto inputs = simulate(scenario, work / ("sim_" + scenario), "--rate 1");
+      const fs::path out = work / ("console_" + scenario);
+      const Json c = console(inputs, out, "");
+      const Json pr = scorePr(out);
+      std::cout << scenario << ": " << c["images"] << " images, " << c["loop_closures"] << " loop closures accepted; "
+                << "precision " << pr["precision"] << " (" << pr["false_positives"] << " false), recall "
+                << pr["recall"] << ", recall at 100% precision " << pr["recall_at_100_precision"] << std::endl;
+      result[scenario] = {{"images", c["images"]}, {"loop_closures", c["loop_closures"]}, {"pr", pr}};
+    }
+    if (runLong) {
+      const auto inputs =
+          simulate("long", work / "sim_long", longDuration.empty() ? "" : "--duration " + longDuration);
+      for (const double budget : {100.0, 0.0}) {
+        const fs::path out = work / (budget > 0 ? "console_long_budget" : "console_long_unbounded");
+        const std::string params = "--Rtabmap/TimeThr " + std::to_string(budget);
+        const Json c = console(inputs, out, params);
+        const LogFigures f = readLog(out / "log.txt", budget);
+        const Json pr = scorePr(out);
+        std::cout << "long, Rtabmap/TimeThr " << budget << " ms: " << f.images << " images; update after the budget "
+                  << "was first exceeded (image " << f.firstOverBudget << "): p50 " << f.p50 << " ms, p99 " << f.p99
+                  << " ms, max " << f.max << " ms; max WM " << f.maxWm << "; loop closures in the second half "
+                  << f.loopClosuresSecondHalf << "; transferred " << c["transferred"] << ", retrieved "
+                  << c["retrieved"] << "; precision " << pr["precision"] << ", recall at 100% precision "
+                  << pr["recall_at_100_precision"] << std::endl;
+        if (budget > 0) {
+          std::cout << "  goal p99 <= 1.2 x TimeThr: " << (f.p99 <= 1.2 * budget ? "met" : "NOT met") << std::endl;
+        }
+        result[budget > 0 ? "long_budget" : "long_unbounded"] = {
+            {"time_thr_ms", budget}, {"images", f.images}, {"first_over_budget", f.firstOverBudget},
+            {"p50_ms", f.p50}, {"p99_ms", f.p99}, {"max_ms", f.max}, {"max_wm", f.maxWm},
+            {"loop_closures_second_half", f.loopClosuresSecondHalf}, {"transferred", c["transferred"]},
+            {"retrieved", c["retrieved"]}, {"pr", pr}};
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "bench-loop_closure_sim_bench: " << e.what() << std::endl;
+    return 1;
+  }
+  std::cout << result.dump() << std::endl;
+  return 0;
+}
