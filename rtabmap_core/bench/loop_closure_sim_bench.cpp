@@ -34,7 +34,8 @@ std::string toolsDir;
 
 // Runs a tool with --json and returns its last stdout line parsed; throws on failure.
 Json runJson(const std::string& tool, const std::string& arguments) {
-  const std::string command = (fs::path(toolsDir) / tool).string() + " --json " + arguments + " 2>/dev/null";
+  // --json last: rtabmap-eval takes its sub-command first.
+  const std::string command = (fs::path(toolsDir) / tool).string() + " " + arguments + " --json 2>/dev/null";
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) throw std::runtime_error("cannot run " + command);
   std::string out, last;
