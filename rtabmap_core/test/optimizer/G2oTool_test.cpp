@@ -1,53 +1,23 @@
 // rtabmap-g2o: the --json contract, the output file, and errors on bad files.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "SyntheticGraph.h"
 #include "common/TestData.h"
+#include "common/ToolRun.h"
 #include "rtabmap_core/optimizer/Chi2.h"
 #include "rtabmap_core/optimizer/GraphIO.h"
 
 namespace rtabmap {
 namespace {
 
-struct ToolRun {
-  int exitCode = -1;
-  std::string stdoutText;
-  std::string stderrText;
-};
+using test::lastJsonLine;
+using test::ToolRun;
 
-ToolRun runG2o(const std::string& arguments, const test::TempDir& dir) {
-  const std::string errFile = dir.file("stderr.txt");
-  const std::string command = test::toolPath("g2o") + " " + arguments + " 2>" + errFile;
-  ToolRun run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buffer;
-  std::size_t n;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.stdoutText.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(errFile);
-  std::stringstream s;
-  s << err.rdbuf();
-  run.stderrText = s.str();
-  return run;
-}
-
-nlohmann::json lastJsonLine(const std::string& text) {
-  std::string line, last;
-  std::istringstream in(text);
-  while (std::getline(in, line)) {
-    if (!line.empty()) last = line;
-  }
-  return nlohmann::json::parse(last);
-}
+ToolRun runG2o(const std::string& arguments, const test::TempDir& dir) { return test::runTool("g2o", arguments, dir); }
 
 TEST(G2oTool, OptimisesWritesAndReportsJson) {
   test::TempDir dir;
