@@ -4,10 +4,13 @@
 #   make build   install missing Debian packages, build the catkin workspace under build/
 #   make bench   build, then the benchmarks (long; never part of make test)
 #   make clean   remove build/
+#   make fuzz       libFuzzer targets of every parser of outside data, FUZZ_SECONDS (60) each
+#   make test-asan  the core's unit tests built with AddressSanitizer + UBSan (build/asan)
+#   make test-tsan  the core's unit tests built with ThreadSanitizer (build/tsan)
 SHELL := /bin/bash
 .SHELLFLAGS := -eo pipefail -c
 .DEFAULT_GOAL := build
-.PHONY: build deps configure test demo bench clean
+.PHONY: build deps configure test demo bench clean fuzz test-asan test-tsan
 
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 BUILD := $(ROOT)/build
@@ -57,6 +60,18 @@ demo: build
 
 bench: build
 	@$(ROOT)/tools/build/run-bench.sh $(BUILD)/bin
+
+# Hardening (issue 10). The sanitizer builds are the core alone (plain CMake, clang); the ROS
+# conversion fuzz targets only need the messages generated in the catkin workspace.
+test-asan: deps
+	@$(ROOT)/tools/build/sanitizers.sh asan $(BUILD)/asan
+
+test-tsan: deps
+	@$(ROOT)/tools/build/sanitizers.sh tsan $(BUILD)/tsan
+
+fuzz: configure
+	cmake --build $(WS)/build --target rtabmap_ros_generate_messages_cpp -- -j$(JOBS)
+	@$(ROOT)/tools/build/fuzz.sh $(BUILD) $(WS)/devel/include
 
 clean:
 	rm -rf $(BUILD)

@@ -49,7 +49,10 @@ sensor_msgs::CameraInfo cameraModelToMsg(const rtabmap::CameraModel& model, cons
   copyMat(model.R(), msg.R);
   copyMat(model.P(), msg.P);
   const cv::Mat& D = model.D_raw();
-  msg.D.assign(D.begin<double>(), D.end<double>());
+  // Fuzzing fix (fuzz/regressions/ros_camera_info): a model without distortion coefficients
+  // (CameraInfo with an empty D, as many drivers publish) has an empty D_raw, whose iterators
+  // divide by its zero element size (SIGFPE): no coefficients, nothing to copy.
+  if (!D.empty()) msg.D.assign(D.begin<double>(), D.end<double>());
   return msg;
 }
 

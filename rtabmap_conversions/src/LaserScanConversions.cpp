@@ -17,14 +17,25 @@ std::optional<rtabmap::LaserScan> laserScanFromMsg(const sensor_msgs::LaserScan&
                                    ", angle_max " + std::to_string(msg.angle_max) + ", angle_increment " +
                                    std::to_string(msg.angle_increment) + ")");
   }
+  // Fuzzing fix (fuzz/regressions/ros_laser_scan): angles of 1e30 rad passed, and the core's
+  // bearing unwrapping (LaserScan::toRanges adds 2 pi until in range) then never ended. A laser's
+  // beams lie within a couple of turns of zero (REP-103 angles: [-pi, pi], some drivers [0, 2 pi]).
+  constexpr double kMaxAngle = 4.0 * M_PI;
+  if (std::abs(msg.angle_min) > kMaxAngle || std::abs(msg.angle_max) > kMaxAngle) {
+    return detail::fail(error, what + " has beam angles beyond +-4 pi (angle_min " + std::to_string(msg.angle_min) +
+                                   ", angle_max " + std::to_string(msg.angle_max) + ")");
+  }
   // Drivers disagree on whether angle_max is the last beam or one past it: accept one beam of
   // slack, reject anything else (a wrong increment would put every point at a wrong bearing).
   const double span = (double(msg.angle_max) - double(msg.angle_min)) / double(msg.angle_increment);
-  const long expected = std::lround(span) + 1;
-  if (span < -0.5 || std::abs(expected - long(msg.ranges.size())) > 1) {
+  // Fuzzing fix (fuzz/regressions/ros_laser_scan): a tiny increment made span too large for
+  // std::lround (undefined, then a signed overflow): bound it by the range count first.
+  const bool spanFits = span >= -0.5 && span <= double(msg.ranges.size()) + 1.0;
+  const long expected = spanFits ? std::lround(span) + 1 : 0;
+  if (!spanFits || std::abs(expected - long(msg.ranges.size())) > 1) {
     return detail::fail(error, what + ": angles from " + std::to_string(msg.angle_min) + " to " +
                                    std::to_string(msg.angle_max) + " by " + std::to_string(msg.angle_increment) +
-                                   " make " + std::to_string(expected) + " beams, but there are " +
+                                   " make " + std::to_string(span + 1.0) + " beams, but there are " +
                                    std::to_string(msg.ranges.size()) + " ranges");
   }
   if (!std::isfinite(msg.range_min) || !std::isfinite(msg.range_max) || msg.range_min < 0.0f ||

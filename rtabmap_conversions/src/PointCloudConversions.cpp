@@ -117,7 +117,10 @@ std::optional<rtabmap::LaserScan> laserScanFromCloudMsg(const sensor_msgs::Point
   const int cn = rtabmap::LaserScan::channels(format);
   cv::Mat data(1, static_cast<int>(points), CV_32FC(cn));
   int kept = 0;
-  for (uint32_t row = 0; row < msg.height; ++row) {
+  // Fuzzing fix (fuzz/regressions/ros_point_cloud2): a cloud of width 0 and a huge height
+  // passes the size checks (0 bytes per row) and looped over 4e9 empty rows: no row then.
+  const uint32_t rows = msg.width == 0 ? 0 : msg.height;
+  for (uint32_t row = 0; row < rows; ++row) {
     const uint8_t* rowPtr = msg.data.data() + size_t(row) * msg.row_step;
     for (uint32_t col = 0; col < msg.width; ++col) {
       const uint8_t* p = rowPtr + size_t(col) * msg.point_step;

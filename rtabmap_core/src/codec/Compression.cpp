@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 
 #include "../codec/ByteStream.h"
@@ -72,6 +73,20 @@ void inflateExact(const unsigned char* payload, size_t payloadSize, unsigned cha
   }
 }
 
+// Fuzzing fix (fuzz/regressions/codec/gdcm_assert_dicom_probe.rejected): cv::imdecode probes
+// every decoder OpenCV was built with, and some abort the process on malformed input (GDCM's
+// DICOM reader asserts), so a corrupt blob could kill the node. Only the raster formats an
+// image blob legitimately holds reach imdecode: jpeg, png, tiff, bmp, webp, told by their
+// signatures.
+bool hasImageSignature(const unsigned char* d, size_t n) {
+  auto starts = [&](std::initializer_list<unsigned char> magic, size_t at = 0) {
+    return n >= at + magic.size() && std::equal(magic.begin(), magic.end(), d + at);
+  };
+  return starts({0xFF, 0xD8, 0xFF}) || starts({0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A}) ||
+         starts({'I', 'I', 0x2A, 0x00}) || starts({'M', 'M', 0x00, 0x2A}) || starts({'B', 'M'}) ||
+         (starts({'R', 'I', 'F', 'F'}) && starts({'W', 'E', 'B', 'P'}, 8));
+}
+
 std::string normalizeFormat(const std::string& format) {
   std::string f = format;
   std::transform(f.begin(), f.end(), f.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -131,6 +146,10 @@ cv::Mat uncompressImage(const unsigned char* data, size_t size) {
       throw FormatError("uncompressImage: jpeg of " + std::to_string(size) +
                         " bytes has no end-of-image marker (truncated)");
     }
+  }
+  if (!hasImageSignature(data, size)) {
+    throw FormatError("uncompressImage: " + std::to_string(size) +
+                      " bytes are not a jpeg, png, tiff, bmp or webp stream");
   }
   cv::Mat image;
   try {
@@ -267,7 +286,9 @@ Bytes compressBytes(const Bytes& raw) {
 Bytes uncompressBytes(const Bytes& compressed) {
   if (compressed.empty()) return {};
   detail::ByteReader r(compressed.data(), compressed.size(), "uncompressBytes");
-  if (!hasPrefix(compressed.data(), compressed.size(), kBytesMagic, 3)) {
+  // Fuzzing fix (fuzz/regressions/codec/rtb_magic_only.rejected): the magic alone ("RTB", 3
+  // bytes) passed, and the version byte was read past the end: require the 4-byte magic.
+  if (compressed.size() < 4 || !hasPrefix(compressed.data(), compressed.size(), kBytesMagic, 3)) {
     r.fail("not a compressBytes blob (bad magic)");
   }
   if (compressed[3] != kBytesMagic[3]) {

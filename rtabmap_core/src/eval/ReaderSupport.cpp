@@ -186,7 +186,10 @@ std::vector<std::string_view> splitFields(std::string_view line, bool commas) {
 
 bool isCommentOrBlank(std::string_view line) {
   for (char c : line) {
-    if (c == ' ' || c == '\t' || c == '\r') continue;
+    // Fuzzing fix (fuzz/regressions/{trajectory,carmen}): blank means every separator
+    // splitFields() skips, '\v' and '\f' included; a line of only those used to pass as
+    // non-blank and split into no field, and readers then read fields[0] out of bounds.
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f') continue;
     return c == '#';
   }
   return true;

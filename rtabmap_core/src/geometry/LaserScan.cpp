@@ -98,7 +98,10 @@ LaserScan LaserScan::fromRanges(const std::vector<float>& ranges, double angleMi
 }
 
 void LaserScan::setBeamGeometry(double angleMin, double angleMax, double angleIncrement) {
+  // A planar scan spans at most a turn: angles beyond +-4 pi are corrupt data, not a sensor.
+  constexpr double kMaxAngle = 4.0 * M_PI;
   if (!std::isfinite(angleMin) || !std::isfinite(angleMax) || !std::isfinite(angleIncrement) ||
+      std::abs(angleMin) > kMaxAngle || std::abs(angleMax) > kMaxAngle ||
       (angleIncrement != 0.0 && (angleMax - angleMin) / angleIncrement < 0.0)) {
     throw FormatError("LaserScan: invalid beam geometry (angle_min " + std::to_string(angleMin) +
                       ", angle_max " + std::to_string(angleMax) + ", increment " +
@@ -119,9 +122,15 @@ std::vector<float> LaserScan::toRanges() const {
     const double a = std::atan2(p[1], p[0]);
     // Beam index of this point's bearing, unwrapping so a scan crossing +-pi maps correctly.
     double k = (a - angleMin_) / angleIncrement_;
+    // In closed form (whole turns), not by stepping: a corrupt geometry with huge angles would
+    // step for ever (found by fuzzing the ROS conversion).
     const double turn = 2.0 * M_PI / std::abs(angleIncrement_);
-    while (k < -0.5) k += turn;
-    while (k > beams - 0.5 + 1e-9 && k - turn >= -0.5) k -= turn;
+    if (k < -0.5) k += std::ceil((-0.5 - k) / turn) * turn;
+    if (k > beams - 0.5 + 1e-9) {
+      const double wanted = std::ceil((k - (beams - 0.5 + 1e-9)) / turn);
+      const double allowed = std::floor((k + 0.5) / turn);  // keeps k >= -0.5
+      k -= std::min(wanted, allowed) * turn;
+    }
     const long idx = std::lround(k);
     if (idx < 0 || idx >= beams) continue;
     ranges[static_cast<size_t>(idx)] = std::hypot(p[0], p[1]);

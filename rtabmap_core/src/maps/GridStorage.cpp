@@ -261,7 +261,9 @@ void GridStorage::markDirty(const CellBox& b) {
   if (b.empty()) return;
   for (int tr = b.r0 >> kTileShift; tr <= (b.r1 >> kTileShift); ++tr) {
     for (int tc = b.c0 >> kTileShift; tc <= (b.c1 >> kTileShift); ++tc) {
-      markDirty((static_cast<int64_t>(tr) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(tc)));
+      // UBSan fix (make test-asan): no left shift of a negative row (see tileKey).
+      markDirty(static_cast<int64_t>(static_cast<uint64_t>(static_cast<int64_t>(tr)) << 32) ^
+                static_cast<int64_t>(static_cast<uint32_t>(tc)));
     }
   }
 }

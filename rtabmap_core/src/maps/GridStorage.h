@@ -38,8 +38,11 @@ struct CellBox {
 };
 
 // World tile key of a world cell.
+// UBSan fix (make test-asan): shifting a negative row left is undefined before C++20; shift
+// its unsigned two's-complement image instead (same key bits).
 inline int64_t tileKey(int col, int row) {
-  return (static_cast<int64_t>(row >> kTileShift) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(col >> kTileShift));
+  return static_cast<int64_t>(static_cast<uint64_t>(static_cast<int64_t>(row >> kTileShift)) << 32) ^
+         static_cast<int64_t>(static_cast<uint32_t>(col >> kTileShift));
 }
 inline int tileCol(int64_t key) { return static_cast<int32_t>(static_cast<uint32_t>(key & 0xffffffff)); }
 inline int tileRow(int64_t key) { return static_cast<int32_t>(key >> 32); }

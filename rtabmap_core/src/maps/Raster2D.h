@@ -74,8 +74,11 @@ struct CellMean {
   float x, y, z;
   int count;
 };
+// UBSan fix (make test-asan): shifting a negative row left is undefined before C++20; shift
+// its unsigned two's-complement image instead (same key bits).
 inline int64_t cellKey(int col, int row) {
-  return (static_cast<int64_t>(row) << 32) ^ static_cast<int64_t>(static_cast<uint32_t>(col));
+  return static_cast<int64_t>(static_cast<uint64_t>(static_cast<int64_t>(row)) << 32) ^
+         static_cast<int64_t>(static_cast<uint32_t>(col));
 }
 
 }  // namespace rtabmap::maps_detail

@@ -162,7 +162,11 @@ class PointGrid {
 
  private:
   int cellOf(float v) const { return static_cast<int>(std::floor(v / cell_)); }
-  static long long key(int x, int y) { return (static_cast<long long>(x) << 32) ^ static_cast<unsigned int>(y); }
+  // Shift the unsigned image of x: a negative x shifted left is undefined before C++20.
+  static long long key(int x, int y) {
+    return static_cast<long long>(static_cast<unsigned long long>(static_cast<long long>(x)) << 32) ^
+           static_cast<unsigned int>(y);
+  }
   const std::vector<cv::Point2f>& points_;
   float cell_;
   std::unordered_map<long long, std::vector<int>> cells_;

@@ -260,3 +260,21 @@ TEST(LaserScan, BeamGeometryRoundTrip) {
   EXPECT_TRUE(LaserScan().toRanges().empty());
   EXPECT_THROW(LaserScan().setBeamGeometry(1.0, 0.0, 0.1), FormatError);
 }
+
+// Beam indices unwrap whole turns: a full 360-degree scan crossing +-pi, and a geometry given
+// one turn away (angle_min 2 pi + 0.3, -2 pi - 1), come back beam for beam. Corrupt angles are refused
+// (fuzzing found toRanges stepping for ever on angles near 1e30).
+TEST(LaserScan, BeamIndicesUnwrapWholeTurns) {
+  const std::vector<std::pair<double, int>> cases = {{-0.2, 360}, {2.0 * M_PI + 0.3, 180}, {-2.0 * M_PI - 1.0, 360}};
+  for (const auto& [angleMin, n] : cases) {
+    const double inc = 2.0 * M_PI / 360;
+    std::vector<float> ranges(n);
+    for (int i = 0; i < n; ++i) ranges[i] = 1.0f + 0.01f * static_cast<float>(i);
+    const LaserScan scan = LaserScan::fromRanges(ranges, angleMin, inc, 0.1, 10.0);
+    const std::vector<float> back = scan.toRanges();
+    ASSERT_EQ(back.size(), ranges.size()) << angleMin;
+    for (int i = 0; i < n; ++i) EXPECT_NEAR(back[i], ranges[i], 1e-4) << "angle_min " << angleMin << " beam " << i;
+  }
+  EXPECT_THROW(LaserScan().setBeamGeometry(1e30, 1e30 + 1.0, 0.01), FormatError);
+  EXPECT_THROW(LaserScan().setBeamGeometry(-20.0, 0.0, 0.01), FormatError);
+}
