@@ -93,6 +93,7 @@ class FlannIndex : public Vocabulary::Index {
   }
 
   size_t size() const override { return pointOfWord_.size(); }
+  size_t points() const override { return wordOfPoint_.size(); }
   size_t builtSize() const override { return builtSize_; }
   bool built() const override { return index_ != nullptr; }
 

@@ -27,6 +27,8 @@ class Vocabulary::Index {
   virtual void remove(int wordId) = 0;
   virtual std::vector<NearestTwo> nearestTwo(const cv::Mat& queries) const = 0;
   virtual size_t size() const = 0;        // words in the index
+  // Points the index holds: its words plus the removed ones it still stores until a rebuild.
+  virtual size_t points() const = 0;
   virtual size_t builtSize() const = 0;   // words at the last rebuild
   virtual bool built() const = 0;
 

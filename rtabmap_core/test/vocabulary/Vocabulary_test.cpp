@@ -143,6 +143,23 @@ TEST(Vocabulary, IndexIsRebuiltWhenTheVocabularyDoubles) {
   EXPECT_EQ(v.summary().lastBuildSize, static_cast<int>(v.size()));
 }
 
+// Words leaving (transfer) do not make room for new ones in the index: it is rebuilt once it
+// holds twice the points of its last build, removed ones included, so it never fills up with
+// dead points between builds.
+TEST(Vocabulary, RemovedWordsCountTowardsTheRebuild) {
+  Vocabulary v;
+  cv::Mat first = randomFloat(100, 64, 11);
+  auto ids = v.quantize(first, 1);
+  ASSERT_EQ(v.summary().indexBuilds, 1);
+  for (int i = 0; i < 90; ++i) v.removeWord(ids[i]);
+  v.quantize(randomFloat(90, 64, 12), 2);  // 100 + 90 points held: no rebuild yet
+  EXPECT_EQ(v.summary().indexBuilds, 1);
+  v.quantize(randomFloat(20, 64, 13), 3);  // 210 > 2 x 100: rebuilt over the 120 live words
+  EXPECT_EQ(v.summary().indexBuilds, 2);
+  EXPECT_EQ(v.summary().lastBuildSize, 120);
+  EXPECT_EQ(v.findWords(first.row(95))[0], ids[95]);
+}
+
 TEST(Vocabulary, WordsLeaveAndComeBackWithTheirIds) {
   Vocabulary v;
   cv::Mat d = randomFloat(30, 64, 7);
