@@ -183,8 +183,12 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
   lastId_ = id;
   auto inserted = signatures_.emplace(id, std::move(fresh)).first;
   stm_.insert(id);
-  if (previousId && options_.rehearsalSimilarity < 1.0f && result.rehearsalSimilarity >= options_.rehearsalSimilarity &&
-      !signatures_.at(previousId).isBadSignature() && !inserted->second.isBadSignature()) {
+  // Rehearsal merges consecutive views of one place, never across maps (a new session's first
+  // location is not the same place as the previous session's last, whatever it looks like).
+  const Signature* previous = previousId ? &signatures_.at(previousId) : nullptr;
+  if (previous && previous->mapId() == inserted->second.mapId() && options_.rehearsalSimilarity < 1.0f &&
+      result.rehearsalSimilarity >= options_.rehearsalSimilarity && !previous->isBadSignature() &&
+      !inserted->second.isBadSignature()) {
     rehearse(signatures_.at(previousId), inserted->second, result);
   }
   previousId_ = result.id;

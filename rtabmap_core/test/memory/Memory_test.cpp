@@ -53,6 +53,16 @@ TEST(Memory, RehearsalMergesTheSamePlaceAndIncreasesTheWeight) {
   EXPECT_TRUE(m.signature(2)->hasLink(5, Link::kNeighbor));
 }
 
+TEST(Memory, NoRehearsalAcrossMaps) {
+  Memory m(smallStm(5));
+  m.addLocation(view(1));
+  LocationInput again = view(1, 1);
+  again.mapId = 1;  // a new session starts where the previous one ended
+  AddResult r = m.addLocation(again);
+  EXPECT_FALSE(r.merged);
+  EXPECT_FALSE(m.signature(1)->hasLink(r.id));
+}
+
 TEST(Memory, RehearsalCanKeepTheNewId) {
   MemoryOptions o = smallStm(5);
   o.rehearsalIdUpdatedToNewOne = true;
