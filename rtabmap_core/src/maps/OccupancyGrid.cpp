@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "GraphChanges.h"
+#include "LocalGridCheck.h"
 #include "GridStorage.h"
 #include "SensorModel.h"
 #include "rtabmap_core/common/Error.h"
@@ -245,14 +246,8 @@ bool OccupancyGrid::addLocalGrid(int nodeId, const LocalGrid& grid, std::string*
     if (why) *why = "node " + std::to_string(nodeId) + ": " + reason;
     return false;
   };
-  if (grid.isEmpty()) return fail("its local grid is empty (nothing to add)");
-  if (std::abs(grid.cellSize - impl_->o.cellSize) > 1e-6f * impl_->o.cellSize) {
-    return fail("its local grid has cells of " + std::to_string(grid.cellSize) +
-                " m but the map uses Grid/CellSize " + std::to_string(impl_->o.cellSize) + " m");
-  }
-  for (const cv::Mat* m : {&grid.ground, &grid.obstacles, &grid.empty}) {
-    if (!isCellMatrix(*m)) return fail("its local grid cells are not CV_32FC2/3/4 1xN matrices");
-  }
+  const std::string problem = maps_detail::localGridProblem(grid, impl_->o.cellSize, "the map");
+  if (!problem.empty()) return fail(problem);
   const Cloud obstacles = cloudFromCells(grid.obstacles);
   Cloud free = cloudFromCells(grid.ground);
   if (grid.empty.empty() || grid.empty.channels() == 2) free.append(cloudFromCells(grid.empty));

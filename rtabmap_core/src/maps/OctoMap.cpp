@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "GraphChanges.h"
+#include "LocalGridCheck.h"
 #include "OctreeBatch.h"
 #include "RayCaster.h"
 #include "rtabmap_core/common/Error.h"
@@ -247,14 +248,8 @@ bool OctoMap::addLocalGrid(int nodeId, const LocalGrid& grid, std::string* why) 
     if (why) *why = "node " + std::to_string(nodeId) + ": " + reason;
     return false;
   };
-  if (grid.isEmpty()) return fail("its local grid is empty (nothing to add)");
-  if (std::abs(grid.cellSize - impl_->o.cellSize) > 1e-6f * impl_->o.cellSize) {
-    return fail("its local grid has cells of " + std::to_string(grid.cellSize) +
-                " m but the OctoMap uses Grid/CellSize " + std::to_string(impl_->o.cellSize) + " m");
-  }
-  for (const cv::Mat* m : {&grid.ground, &grid.obstacles, &grid.empty}) {
-    if (!isCellMatrix(*m)) return fail("its local grid cells are not CV_32FC2/3/4 1xN matrices");
-  }
+  const std::string problem = maps_detail::localGridProblem(grid, impl_->o.cellSize, "the OctoMap");
+  if (!problem.empty()) return fail(problem);
   NodeVoxels n;
   n.obstacles = cloudFromCells(grid.obstacles);
   n.ground = cloudFromCells(grid.ground);
