@@ -42,58 +42,82 @@ LoopClosureDetector::LoopClosureDetector(const LoopClosureDetectorOptions& optio
 LoopClosureUpdate LoopClosureDetector::process(const LocationInput& input, bool keepPosterior) {
   const auto start = Clock::now();
   LoopClosureUpdate u;
-  auto t = Clock::now();
-  memory_.joinLtmWriter();  // the previous update's writes are done before this one starts
   const size_t vocabularyAtStart = memory_.vocabulary().size();
+  const AddResult added = addLocation(input, u);
+  detect(added.id, u, keepPosterior);
+  if (u.highest.accepted) {
+    acceptLoopClosure(Link(added.id, u.highest.id, Link::kGlobalClosure, Transform::Identity()));
+    u.loopClosureId = u.highest.id;
+  }
+  std::set<int> immune;
+  retrieveNeighbors(u.highest.id, u, immune);
+  manageMemory(immune, msSince(start), vocabularyAtStart, u);
+  u.totalMs = msSince(start);
+  return u;
+}
+
+AddResult LoopClosureDetector::addLocation(const LocationInput& input, LoopClosureUpdate& u) {
+  const auto t = Clock::now();
+  memory_.joinLtmWriter();  // the previous update's writes are done before this one starts
   const AddResult added = memory_.addLocation(input);
   u.id = added.id;
   u.merged = added.merged;
   u.words = added.words;
   u.newWords = added.newWords;
   u.memoryUpdateMs = msSince(t);
+  return added;
+}
 
-  const auto neighbors = [this](int id, int depth) { return memory_.neighbors(id, depth); };
+void LoopClosureDetector::detect(int id, LoopClosureUpdate& u, bool keepPosterior) {
   // A location merged by rehearsal is still the current place (T-RO 2013, III-C: L_c is merged
   // into L_t, which goes on to the Bayes filter): only bad signatures skip detection.
-  const bool detect = added.id > 0 && !added.badSignature && !memory_.wm().empty();
-  if (detect) {
-    t = Clock::now();
-    const std::map<int, float> likelihood = bayes::adjustLikelihood(memory_.computeLikelihood(added.id));
-    u.likelihoodMs = msSince(t);
-    t = Clock::now();
-    const std::map<int, float>& posterior = filter_.update(likelihood, neighbors);
-    u.posteriorMs = msSince(t);
-    t = Clock::now();
-    u.highest = bayes::selectHypothesis(posterior, options_.hypothesis, previousHypothesisValue_);
-    previousHypothesisValue_ = u.highest.value;
-    if (u.highest.accepted) {
-      memory_.addLoopClosure(Link(added.id, u.highest.id, Link::kGlobalClosure, Transform::Identity()));
-      filter_.invalidateNeighborhood({added.id, u.highest.id}, neighbors);
-      u.loopClosureId = u.highest.id;
-    }
-    if (keepPosterior) u.posterior = posterior;
-    u.hypothesisMs = msSince(t);
-  }
+  const Signature* s = memory_.signature(id);
+  if (!s || s->isBadSignature() || memory_.wm().empty()) return;
+  const auto neighbors = [this](int node, int depth) { return memory_.neighbors(node, depth); };
+  auto t = Clock::now();
+  const std::map<int, float> likelihood = bayes::adjustLikelihood(memory_.computeLikelihood(id));
+  u.likelihoodMs = msSince(t);
+  t = Clock::now();
+  const std::map<int, float>& posterior = filter_.update(likelihood, neighbors);
+  u.posteriorMs = msSince(t);
+  t = Clock::now();
+  u.highest = bayes::selectHypothesis(posterior, options_.hypothesis, previousHypothesisValue_);
+  previousHypothesisValue_ = u.highest.value;
+  if (keepPosterior) u.posterior = posterior;
+  u.hypothesisMs = msSince(t);
+}
 
-  std::set<int> immune;
-  if (ltm_ && u.highest.id > 0) {
-    t = Clock::now();
-    u.retrieved = memory_.retrieve(u.highest.id);
+void LoopClosureDetector::acceptLoopClosure(const Link& link) {
+  memory_.addLoopClosure(link);
+  linksChanged({link.from(), link.to()});
+}
+
+void LoopClosureDetector::linksChanged(const std::set<int>& ids) {
+  filter_.invalidateNeighborhood(ids, [this](int node, int depth) { return memory_.neighbors(node, depth); });
+}
+
+void LoopClosureDetector::retrieveNeighbors(int highestId, LoopClosureUpdate& u, std::set<int>& immune) {
+  if (ltm_ && highestId > 0) {
+    const auto t = Clock::now();
+    u.retrieved = memory_.retrieve(highestId);
     // The hypothesis and its direct neighbours are where the robot is expected next: they stay
     // in WM with what was just retrieved. (Sparing the whole transition range would leave a
     // small WM nothing to transfer.)
-    for (const auto& [id, depth] : memory_.neighbors(u.highest.id, 1)) {
+    for (const auto& [id, depth] : memory_.neighbors(highestId, 1)) {
       (void)depth;
       immune.insert(id);
     }
     u.retrievalMs = msSince(t);
   }
   immune.insert(u.retrieved.begin(), u.retrieved.end());
+}
 
-  const bool overTime = options_.timeThr > 0.0f && msSince(start) > options_.timeThr;
+void LoopClosureDetector::manageMemory(const std::set<int>& immune, double elapsedMs, size_t vocabularyAtStart,
+                                       LoopClosureUpdate& u) {
+  const bool overTime = options_.timeThr > 0.0f && elapsedMs > options_.timeThr;
   const bool overSize = options_.memoryThr > 0 && static_cast<int>(memory_.wm().size()) > options_.memoryThr;
   if (ltm_ && (overTime || overSize)) {
-    t = Clock::now();
+    const auto t = Clock::now();
     // As many words leave the vocabulary as entered it in this update (new and retrieved words).
     const size_t now = memory_.vocabulary().size();
     const int entered = now > vocabularyAtStart ? static_cast<int>(now - vocabularyAtStart) : 0;
@@ -104,8 +128,6 @@ LoopClosureUpdate LoopClosureDetector::process(const LocationInput& input, bool 
   u.wmSize = s.wmSize;
   u.stmSize = s.stmSize;
   u.vocabularySize = s.vocabularySize;
-  u.totalMs = msSince(start);
-  return u;
 }
 
 }  // namespace rtabmap::memory

@@ -1,6 +1,7 @@
 #include "rtabmap_core/memory/Memory.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -25,6 +26,10 @@ MemoryOptions MemoryOptions::fromParameters(const ParametersMap& p) {
   o.maxRetrieved = Parameters::getInt(p, Parameters::kRtabmapMaxRetrieved());
   o.neighborhoodDepth =
       std::max(0, static_cast<int>(Parameters::getNumberList(p, Parameters::kBayesPredictionLC()).size()) - 2);
+  o.incremental = Parameters::getBool(p, Parameters::kMemIncrementalMemory());
+  o.stillLinear = Parameters::getFloat(p, Parameters::kRGBDLinearUpdate());
+  o.stillAngular = Parameters::getFloat(p, Parameters::kRGBDAngularUpdate());
+  o.rehearsalWeightIgnoredWhileMoving = Parameters::getBool(p, Parameters::kMemRehearsalWeightIgnoredWhileMoving());
   o.vocabulary = vocabulary::VocabularyOptions::fromParameters(p);
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
@@ -41,6 +46,9 @@ bool MemoryOptions::IsValid(std::string* why) const {
   if (badSignRatio < 0.f) return fail(Parameters::kKpBadSignRatio() + " must be >= 0");
   if (maxRetrieved < 0) return fail(Parameters::kRtabmapMaxRetrieved() + " must be >= 0");
   if (neighborhoodDepth < 0) return fail("neighbourhood depth must be >= 0");
+  if (!(stillLinear >= 0.f) || !(stillAngular >= 0.f)) {
+    return fail(Parameters::kRGBDLinearUpdate() + " and " + Parameters::kRGBDAngularUpdate() + " must be >= 0");
+  }
   return vocabulary.IsValid(why);
 }
 
@@ -64,6 +72,11 @@ Signature& Memory::at(int id) {
 }
 
 const Signature* Memory::signature(int id) const {
+  auto it = signatures_.find(id);
+  return it == signatures_.end() ? nullptr : &it->second;
+}
+
+Signature* Memory::mutableSignature(int id) {
   auto it = signatures_.find(id);
   return it == signatures_.end() ? nullptr : &it->second;
 }
@@ -176,9 +189,13 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
     Signature& previous = at(previousId);
     Transform t = Transform::Identity();
     if (!previous.getPose().isNull() && !fresh.getPose().isNull()) t = previous.getPose().inverse() * fresh.getPose();
-    if (previous.mapId() == fresh.mapId()) addLinkBetween(previous, fresh, Link(previousId, id, Link::kNeighbor, t));
+    if (previous.mapId() == fresh.mapId()) {
+      addLinkBetween(previous, fresh, Link(previousId, id, Link::kNeighbor, t, in.odomInformation));
+    }
     result.rehearsalSimilarity = vocabulary::similarity(previous.getWords(), fresh.getWords());
+    result.moving = isMoving(previous, fresh);
   }
+  previousOfLast_ = previousId;
   result.id = id;
   lastId_ = id;
   auto inserted = signatures_.emplace(id, std::move(fresh)).first;
@@ -189,7 +206,11 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
   if (previous && previous->mapId() == inserted->second.mapId() && options_.rehearsalSimilarity < 1.0f &&
       result.rehearsalSimilarity >= options_.rehearsalSimilarity && !previous->isBadSignature() &&
       !inserted->second.isBadSignature()) {
-    rehearse(signatures_.at(previousId), inserted->second, result);
+    if (result.moving) {
+      rehearseWhileMoving(signatures_.at(previousId), inserted->second);
+    } else {
+      rehearse(signatures_.at(previousId), inserted->second, result);
+    }
   }
   previousId_ = result.id;
   moveStmOverflowToWm();
@@ -226,6 +247,78 @@ void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) 
   signatures_.erase(removedId);
 }
 
+bool Memory::isMoving(const Signature& previous, const Signature& fresh) const {
+  if (previous.getPose().isNull() || fresh.getPose().isNull()) return false;
+  const Transform motion = previous.getPose().inverse() * fresh.getPose();
+  return motion.getNorm() > options_.stillLinear || std::fabs(motion.getAngle()) > options_.stillAngular;
+}
+
+// Metric SLAM: the same view from a new pose. Both locations stay (the graph needs the pose of
+// each); the place's weight moves to the newer one, which memory management must now keep,
+// and the older one can go to the LTM first (the original's rule for a moving robot).
+void Memory::rehearseWhileMoving(Signature& previous, Signature& fresh) {
+  if (options_.rehearsalWeightIgnoredWhileMoving) return;
+  fresh.setWeight(fresh.weight() + previous.weight() + 1);
+  previous.setWeight(0);
+}
+
+void Memory::removeLastLocation() {
+  auto it = signatures_.find(lastId_);
+  if (it == signatures_.end()) throw std::logic_error("Memory::removeLastLocation: the last location is not in RAM");
+  Signature& s = it->second;
+  if (s.isSaved()) throw std::logic_error("Memory::removeLastLocation: location " + std::to_string(lastId_) + " is already saved");
+  for (const auto& [to, link] : s.getLinks()) {
+    (void)link;
+    auto other = signatures_.find(to);
+    if (other != signatures_.end() && to != lastId_) other->second.removeLink(lastId_);
+  }
+  const int words = static_cast<int>(s.getWords().size());
+  removeFromVocabulary(lastId_, s.getWords());
+  if (words > 0 && wordsLocations_ > 0) {
+    wordsSum_ -= words;
+    --wordsLocations_;
+  }
+  stm_.erase(lastId_);
+  wm_.erase(lastId_);
+  signatures_.erase(it);
+  previousId_ = signatures_.count(previousOfLast_) ? previousOfLast_ : 0;
+}
+
+void Memory::addLink(const Link& link) {
+  addLinkBetween(at(link.from()), at(link.to()), link);
+}
+
+bool Memory::removeLink(int from, int to, Link::Type type) {
+  Signature* a = signatures_.count(from) ? &signatures_.at(from) : nullptr;
+  Signature* b = signatures_.count(to) ? &signatures_.at(to) : nullptr;
+  if (!a && !b) return false;
+  if (a && b) {
+    removeLinkBetween(*a, *b, type);
+  } else {
+    (a ? a : b)->removeLink(a ? to : from, type);
+  }
+  // The saved end's links in the LTM would bring the link back on retrieval.
+  if (ltm_ && options_.incremental && ((a && a->isSaved()) || (b && b->isSaved()) || !a || !b)) {
+    ltm_->removeLink(from, to, type);
+  }
+  return true;
+}
+
+bool Memory::setLabel(int id, const std::string& label) {
+  auto it = signatures_.find(id);
+  if (it != signatures_.end()) {
+    it->second.setLabel(label);
+    return true;
+  }
+  if (!ltm_ || !ltm_->loadNode(id, db::LoadOptions::nodeOnly())) return false;
+  if (!options_.incremental) throw std::logic_error("Memory::setLabel: localization mode does not modify the map");
+  db::NodeUpdate update;
+  update.id = id;
+  update.label = label;
+  ltm_->updateNode(update);
+  return true;
+}
+
 void Memory::moveStmOverflowToWm() {
   while (static_cast<int>(stm_.size()) > options_.stmSize) {
     const int oldest = *stm_.begin();
@@ -236,6 +329,7 @@ void Memory::moveStmOverflowToWm() {
 }
 
 void Memory::saveToLtm(Signature& s) {
+  if (!options_.incremental) return;  // localization: the saved map is never modified
   std::vector<db::StoredWord> newWords;
   for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
     if (savedWords_.count(it->first)) continue;

@@ -118,6 +118,15 @@ std::vector<int> Memory::retrieve(int id) {
       if (!signatures_.count(n)) toLoad.push_back(n);
     }
   }
+  return retrieveIds(toLoad);
+}
+
+std::vector<int> Memory::retrieveIds(const std::vector<int>& ids) {
+  if (!ltm_) throw std::logic_error("Memory::retrieveIds: no long-term memory (database) is attached");
+  std::vector<int> toLoad;
+  for (int id : ids) {
+    if (!signatures_.count(id)) toLoad.push_back(id);
+  }
   std::vector<int> retrieved;
   for (Signature& s : ltm_->loadNodes(toLoad)) {
     const int sid = s.id();

@@ -1,12 +1,14 @@
 #include "dataset/DatasetRun.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 
 #include "rtabmap_core/common/Error.h"
+#include "dataset/SlamStage.h"
 #include "rtabmap_core/eval/TrajectoryError.h"
 
 namespace rtabmap::tools::dataset {
@@ -27,9 +29,23 @@ Transform cameraLocalOf(const SensorData& data) {
 
 }  // namespace
 
-OdometryStage::OdometryStage(const RunOptions& options) : wheelGuess_(options.wheelOdometryGuess) {
+OdometryStage::OdometryStage(const RunOptions& options)
+    : wheelGuess_(options.wheelOdometryGuess), wheelOnly_(options.wheelOdometry) {
+  // With wheel odometry the registration approach is still built: it validates the parameters
+  // and names the approach nobody runs ("wheel" is reported instead).
   odometry_ = options.odometry ? Odometry::create(*options.odometry, options.parameters)
                                : Odometry::create(options.parameters);
+}
+
+Eigen::Matrix<double, 6, 6> wheelIncrementCovariance(const Transform& motion) {
+  const double d = motion.getNorm();
+  const double a = std::fabs(motion.getAngle());
+  const double sigmaT = 0.001 + 0.05 * d;
+  const double sigmaR = 0.001 + 0.05 * a + 0.035 * d;
+  Eigen::Matrix<double, 6, 6> c = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int i = 0; i < 3; ++i) c(i, i) = sigmaT * sigmaT;
+  for (int i = 3; i < 6; ++i) c(i, i) = sigmaR * sigmaR;
+  return c;
 }
 
 std::optional<FrameResult> OdometryStage::process(DatasetRecord& record) {
@@ -43,7 +59,9 @@ std::optional<FrameResult> OdometryStage::process(DatasetRecord& record) {
   // process(), which overwrites the frame's odometry pose with its own result.
   if (!data.odomPose().isNull()) latestWheel_ = data.odomPose();
   Transform guess;
-  if (wheelGuess_ && !latestWheel_.isNull() && !previousWheel_.isNull()) guess = previousWheel_.inverse() * latestWheel_;
+  if ((wheelGuess_ || wheelOnly_) && !latestWheel_.isNull() && !previousWheel_.isNull()) {
+    guess = previousWheel_.inverse() * latestWheel_;
+  }
   if (!latestWheel_.isNull()) previousWheel_ = latestWheel_;
 
   FrameResult result;
@@ -51,6 +69,19 @@ std::optional<FrameResult> OdometryStage::process(DatasetRecord& record) {
   result.stamp = record.stamp;
   result.groundTruth = data.groundTruth();
   result.cameraLocal = cameraLocalOf(data);
+  if (wheelOnly_) {
+    result.pose = latestWheel_;
+    result.info.lost = latestWheel_.isNull();
+    result.info.lostReason = result.info.lost ? "no wheel odometry before this frame" : "";
+    result.info.transform = guess.isNull() ? Transform::Identity() : guess;
+    result.info.covariance = wheelIncrementCovariance(result.info.transform);
+    if (result.info.lost) result.info.covariance = Eigen::Matrix<double, 6, 6>::Identity() * 9999.0;
+    wheelDistance_ += result.info.transform.getNorm();
+    result.info.distanceTravelled = wheelDistance_;
+    result.info.stamp = record.stamp;
+    data.setOdom(result.pose, result.info.covariance);
+    return result;
+  }
   result.pose = odometry_->process(data, guess, &result.info);
   // Per-feature ids are for display; a long run does not need to keep them.
   result.info.reg.matchesIDs.clear();
@@ -162,6 +193,7 @@ nlohmann::json RunStatistics::toJson() const {
     }
   }
   if (!options_.outputDir.empty()) j["odom_tum"] = options_.outputDir + "/odom.tum";
+  for (const auto& [key, value] : slam_.items()) j[key] = value;
   return j;
 }
 
@@ -184,20 +216,51 @@ void RunStatistics::printText(std::ostream& out) const {
     out << "ATE not computed: " << j["ate_error"].get<std::string>() << "\n";
   }
   if (j.contains("odom_tum")) out << "trajectory: " << j["odom_tum"].get<std::string>() << "\n";
+  if (!slam_.empty()) {
+    out << std::setprecision(2) << "SLAM: " << slam_["nodes"].get<int>() << " nodes, " << slam_["sessions"].get<int>()
+        << " session(s), " << slam_["loop_closures"].get<int>() << " loop closures, "
+        << slam_["proximity_links"].get<int>() << " proximity links, " << slam_["rejected_links"].get<int>()
+        << " rejected links\n";
+    out << "SLAM update: median " << slam_["slam_ms_median"].get<double>() << " ms, p99 "
+        << slam_["slam_ms_p99"].get<double>() << " ms, max " << slam_["slam_ms_max"].get<double>() << " ms, max WM "
+        << slam_["max_wm_size"].get<int>() << ", realtime x" << slam_["realtime_factor"].get<double>() << "\n";
+    if (slam_.contains("ate_rmse")) {
+      out << std::setprecision(4) << "SLAM ATE (optimised poses, " << slam_["ate_poses"].get<size_t>()
+          << " nodes): RMSE " << slam_["ate_rmse"].get<double>() << " m\n";
+    }
+    out << "map: " << slam_["database"].get<std::string>() << "\n";
+  }
 }
 
 RunStatistics runDataset(const RunOptions& options, const std::function<void(size_t, int)>& progress) {
   std::unique_ptr<DatasetReader> reader = openDatasetReader(options.format, options.path, options.reader);
   OdometryStage odometry(options);
   RunStatistics statistics(options);
-  statistics.setApproach(Odometry::typeName(odometry.odometry().type()));
+  statistics.setApproach(options.wheelOdometry ? "wheel" : Odometry::typeName(odometry.odometry().type()));
+  std::unique_ptr<SlamStage> slam;
+  if (options.slam || options.continueDatabase || options.localization) {
+    SlamRunOptions s;
+    s.enabled = true;
+    s.continueDatabase = options.continueDatabase;
+    s.localization = options.localization;
+    s.database = options.outputDir.empty() ? std::string() : options.outputDir + "/rtabmap.db";
+    slam = std::make_unique<SlamStage>(options, s);
+  }
   const int expected = reader->frameCount();
   DatasetRecord record;
+  double firstStamp = -1.0, lastStamp = 0.0;
   while (reader->next(record)) {
     std::optional<FrameResult> frame = odometry.process(record);
     if (!frame) continue;
+    if (firstStamp < 0.0) firstStamp = frame->stamp;
+    lastStamp = frame->stamp;
+    if (slam) slam->process(*frame, record.data);
     statistics.add(*frame);
     if (progress) progress(statistics.frames(), expected);
+  }
+  if (slam) {
+    slam->finish();
+    statistics.setSlam(slam->toJson(firstStamp >= 0.0 ? lastStamp - firstStamp : 0.0));
   }
   return statistics;
 }

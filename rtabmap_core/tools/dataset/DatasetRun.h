@@ -27,6 +27,12 @@ struct RunOptions {
   bool wheelOdometryGuess = false;  // --guess-odom
   bool ateInCameraFrame = false;    // --ate-frame camera
   std::string framesCsv;            // --frames-csv: one line of odometry figures per frame
+  // --odom wheel: the dataset's own wheel odometry is the odometry (no registration).
+  bool wheelOdometry = false;
+  // Mapping (--slam, --continue, --localization): Rtabmap over the odometry's frames.
+  bool slam = false;
+  bool continueDatabase = false;
+  bool localization = false;
 };
 
 // One frame after odometry.
@@ -54,7 +60,15 @@ class OdometryStage {
   bool wheelGuess_;
   Transform latestWheel_;     // latest wheel odometry pose seen (frame or kOdometry record)
   Transform previousWheel_;   // wheel odometry pose at the previous frame
+  bool wheelOnly_;
+  int wheelFrames_ = 0;
+  double previousStamp_ = 0.0;
+  double wheelDistance_ = 0.0;
 };
+
+// Covariance of a wheel-odometry increment: a floor plus a part growing with the motion
+// (translation 5% of the distance, rotation 5% of the turn plus 2 degrees per metre).
+Eigen::Matrix<double, 6, 6> wheelIncrementCovariance(const Transform& motion);
 
 // Stage: accumulates the results: trajectories, timings, counts; writes and summarises them.
 class RunStatistics {
@@ -68,6 +82,7 @@ class RunStatistics {
   void printText(std::ostream& out) const;
   size_t frames() const { return frames_.size(); }
   void setApproach(const std::string& name) { approach_ = name; }
+  void setSlam(const nlohmann::json& slam) { slam_ = slam; }
 
  private:
   void writeFramesCsv() const;
@@ -77,6 +92,7 @@ class RunStatistics {
   RunOptions options_;
   std::string approach_;
   std::vector<FrameResult> frames_;
+  nlohmann::json slam_;  // the mapping stage's figures (empty without --slam)
 };
 
 // Runs the stages over the whole dataset; `progress` (may be empty) is called after each frame

@@ -43,13 +43,22 @@ int main(int argc, char** argv) {
     tools::CommandLine cli("rtabmap-dataset",
                            "Runs odometry over a dataset (RGB-D, stereo, 2D laser or 3D lidar), writes its "
                            "trajectory as DIR/odom.tum and, when the dataset has ground truth, its absolute "
-                           "trajectory error (ATE, after rigid alignment).");
+                           "trajectory error (ATE, after rigid alignment). With --slam, maps it too (RTAB-Map: "
+                           "loop closure, proximity detection, graph optimisation, memory management) into "
+                           "DIR/rtabmap.db, with the optimised trajectory DIR/poses.tum and the occupancy grid "
+                           "DIR/grid.pgm + grid.yaml (map_server) + grid.png.");
     cli.addPositional("dataset", "Dataset folder or file (as the format expects).");
     cli.addOption("format", "FORMAT",
                   "Dataset layout: 7scenes, tum, euroc, kitti, carmen, images, sim (see rtabmap-eval).");
     cli.addOption("odom", "APPROACH",
-                  "f2m, f2f (visual), s2m, s2s (lidar). Default: from Odom/Strategy and Reg/Strategy.");
-    cli.addOption("output", "DIR", "Folder for odom.tum (and gt.tum when there is ground truth).");
+                  "f2m, f2f (visual), s2m, s2s (lidar), or wheel (the dataset's own odometry, e.g. a CARMEN "
+                  "log's). Default: from Odom/Strategy and Reg/Strategy.");
+    cli.addOption("output", "DIR", "Folder for odom.tum (and gt.tum when there is ground truth), and the map.");
+    cli.addFlag("slam", "Map the dataset (needs --output): DIR/rtabmap.db, DIR/poses.tum, DIR/grid.*. An existing "
+                        "DIR/rtabmap.db is replaced.");
+    cli.addFlag("continue", "Like --slam, but add a session to an existing DIR/rtabmap.db (multi-session mapping).");
+    cli.addFlag("localization", "Localise the dataset against the existing DIR/rtabmap.db without modifying it "
+                                "(Mem/IncrementalMemory false).");
     cli.addOption("start", "N", "Skip the first N frames.", "0");
     cli.addOption("max-frames", "N", "Stop after N frames (0 = all).", "0");
     cli.addOption("rate", "HZ", "Frame rate for layouts without stamps (0 = the layout's default).", "0");
@@ -66,8 +75,13 @@ int main(int argc, char** argv) {
                   "local map size, time, position, ground-truth position, lost reason.");
     cli.addOption("threads", "N", "OpenCV threads (0 = OpenCV's default, 1 = single core as the bench).", "0");
     cli.addNote("With --json, the last stdout line is a JSON object: frames, lost, key_frames, odom_ms_median, "
-                "odom_ms_mean, odom_ms_max, odom_ate_rmse (and mean, median, max) when there is ground truth. "
-                "`--json FILE.json` also writes it to FILE.json.");
+                "odom_ms_mean, odom_ms_max, odom_ate_rmse (and mean, median, max) when there is ground truth; "
+                "with --slam also nodes, sessions, loop_closures, proximity_links, rejected_links, "
+                "slam_ms_median, slam_ms_p99, slam_ms_max, max_wm_size, realtime_factor and ate_rmse (optimised "
+                "poses). `--json FILE.json` also writes it to FILE.json.");
+    cli.addNote("Example (2D lidar SLAM on wheel odometry): rtabmap-dataset --format carmen --odom wheel --slam "
+                "--output /tmp/intel --Reg/Strategy 1 --Reg/Force3DoF true --RGBD/ProximityPathMaxNeighbors 10 "
+                "data/radish/intel.clf");
     cli.addNote("Example: rtabmap-dataset --format 7scenes --odom f2m --output /tmp/run "
                 "--json ../shared/data/rgbd_7scenes");
     if (auto exitCode = cli.parse(static_cast<int>(argp.size()), argp.data())) return *exitCode;
@@ -76,7 +90,20 @@ int main(int argc, char** argv) {
     if (!cli.has("format")) throw tools::UsageError("--format is required");
     options.format = cli.option("format");
     options.path = cli.positional("dataset");
-    if (cli.has("odom")) options.odometry = Odometry::typeFromName(cli.option("odom"));
+    if (cli.has("odom")) {
+      if (cli.option("odom") == "wheel") {
+        options.wheelOdometry = true;
+      } else {
+        options.odometry = Odometry::typeFromName(cli.option("odom"));
+      }
+    }
+    options.slam = cli.flag("slam");
+    options.continueDatabase = cli.flag("continue");
+    options.localization = cli.flag("localization");
+    if (options.continueDatabase && options.localization) throw tools::UsageError("--continue and --localization exclude each other");
+    if ((options.slam || options.continueDatabase || options.localization) && !cli.has("output")) {
+      throw tools::UsageError("--slam, --continue and --localization need --output DIR (the map is DIR/rtabmap.db)");
+    }
     if (cli.has("output")) options.outputDir = cli.option("output");
     options.parameters = cli.parameters();
     options.reader.startFrame = cli.optionInt("start");

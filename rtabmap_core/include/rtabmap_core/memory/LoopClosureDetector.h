@@ -46,7 +46,31 @@ class LoopClosureDetector {
   // ltm may be null: no transfer or retrieval (WM grows without bound).
   LoopClosureDetector(const LoopClosureDetectorOptions& options, db::Database* ltm);
 
+  // The whole of Algorithm 1 (appearance only): the stages below in order, a selected
+  // hypothesis linked at once (identity transform).
   LoopClosureUpdate process(const LocationInput& input, bool keepPosterior = false);
+
+  // --- The stages of process(), for the SLAM pipeline, which verifies a hypothesis by
+  // registration before linking it and adds its own links and immunities between them. ---
+  // Joins the LTM writer of the previous update, then creates the location (Algorithm 2,
+  // rehearsal). Fills u.id, merged, words, newWords, memoryUpdateMs.
+  AddResult addLocation(const LocationInput& input, LoopClosureUpdate& u);
+  // Likelihood over WM (adjusted by eq. 4), posterior, hypothesis selection for location `id`
+  // (no link is made). Fills u.highest, the timings and the posterior if asked. Nothing happens
+  // for a bad signature or an empty WM (u.highest stays empty).
+  void detect(int id, LoopClosureUpdate& u, bool keepPosterior);
+  // An accepted loop closure is linked: the weight rule and the filter's neighbourhood.
+  void acceptLoopClosure(const Link& link);
+  // Links were added or removed around these locations (proximity, rejected links): the
+  // filter's transition rows there are recomputed.
+  void linksChanged(const std::set<int>& ids);
+  // Algorithm 3 around the highest hypothesis; adds the hypothesis, its direct neighbours and
+  // the retrieved locations to `immune`. Fills u.retrieved, u.retrievalMs.
+  void retrieveNeighbors(int highestId, LoopClosureUpdate& u, std::set<int>& immune);
+  // Algorithm 4 when the update (started at `elapsedMs` ago) is over Rtabmap/TimeThr or WM over
+  // Rtabmap/MemoryThr: as many words leave as entered since `vocabularyAtStart`. Fills
+  // u.transferred, u.transferMs and the memory sizes.
+  void manageMemory(const std::set<int>& immune, double elapsedMs, size_t vocabularyAtStart, LoopClosureUpdate& u);
 
   const Memory& memory() const { return memory_; }
   Memory& memory() { return memory_; }

@@ -54,6 +54,16 @@ struct MemoryOptions {
   // Graph range (links) of the neighbourhood of a hypothesis: the Bayes filter's transition
   // range (Bayes/PredictionLC size - 2). Retrieval searches it.
   int neighborhoodDepth = 16;
+  // Mem/IncrementalMemory: false = localization on a saved map: nothing is ever written to the
+  // LTM (locations leaving RAM were loaded from it and are unchanged there).
+  bool incremental = true;
+  // Metric SLAM (locations with odometry poses): two consecutive locations farther apart than
+  // RGBD/LinearUpdate or RGBD/AngularUpdate are both kept, whatever their similarity (the
+  // graph needs both poses); rehearsal then only moves the weight to the newer one, unless
+  // Mem/RehearsalWeightIgnoredWhileMoving.
+  float stillLinear = 0.0f;   // RGBD/LinearUpdate (m)
+  float stillAngular = 0.0f;  // RGBD/AngularUpdate (rad)
+  bool rehearsalWeightIgnoredWhileMoving = false;
   vocabulary::VocabularyOptions vocabulary;
 
   static MemoryOptions fromParameters(const ParametersMap& parameters);
@@ -68,6 +78,9 @@ struct LocationInput {
   std::vector<cv::Point3f> points3D;   // optional, one per keypoint
   SensorData data;
   Transform pose;                      // odometry pose (null for appearance only)
+  // Information matrix of the neighbour link from the previous location (inverse of the
+  // odometry covariance of the motion between them).
+  Link::InfMatrix odomInformation = Link::InfMatrix::Identity();
   double stamp = 0.0;
   int mapId = 0;
 };
@@ -77,6 +90,7 @@ struct AddResult {
   bool merged = false;    // rehearsal merged it with the previous location
   int mergedWith = 0;     // the other location of the merge (removed from memory)
   float rehearsalSimilarity = 0.0f;
+  bool moving = false;    // metric: farther than the still thresholds from the previous location
   bool badSignature = false;
   int words = 0;
   int newWords = 0;
@@ -116,6 +130,23 @@ class Memory {
   // on both ends and the weight rule of the original: the newer location takes the sum of both
   // weights, the older one 0 (it may be transferred; the place lives on in the newer one).
   void addLoopClosure(const Link& link);
+  // Any other link between two locations in RAM (proximity, user, refined neighbour), on both
+  // ends, replacing a link of the same type between them. No weight change.
+  void addLink(const Link& link);
+  // Removes the links of this type (kUndef: all) between two locations (those in RAM; the LTM
+  // copy of a saved location is updated too). Returns false if neither is in RAM.
+  bool removeLink(int from, int to, Link::Type type);
+  // The newest location leaves memory without a trace (metric SLAM: the robot did not move
+  // and rehearsal did not merge it; localization: the location was only used to localise):
+  // its links, its words, its place in STM. Throws std::logic_error for a location that is not
+  // the last one added or that is already saved.
+  void removeLastLocation();
+  // Loads these LTM locations into WM (local retrieval near the robot, path planning, the WM
+  // of the previous session at start), re-quantising their words. Ids already in RAM or
+  // unknown are skipped. Returns the ids loaded.
+  std::vector<int> retrieveIds(const std::vector<int>& ids);
+  // Label of a location in RAM (saved again when it leaves) or in the LTM. False if unknown.
+  bool setLabel(int id, const std::string& label);
 
   // Algorithm 3: brings back from LTM at most Rtabmap/MaxRetrieved locations near `id` (within
   // the neighbourhood range, breadth first, neighbours in time before neighbours in space), their
@@ -135,6 +166,10 @@ class Memory {
   void joinLtmWriter();
 
   const Signature* signature(int id) const;
+  // For caches kept in a location's sensor data (uncompressed scan, extracted features) by
+  // registration: the memory does not see changes made through it, so never change the map
+  // (links, weight, words, label) this way. Null if not in RAM.
+  Signature* mutableSignature(int id);
   const std::set<int>& stm() const { return stm_; }
   // WM ids with the update counter when each entered WM (its age for transfer).
   const std::map<int, long>& wm() const { return wm_; }
@@ -156,6 +191,8 @@ class Memory {
   std::vector<int> transferCandidates(const std::set<int>& immune) const;
   std::set<int> recentWm() const;
   void requantize(Signature& s);
+  void rehearseWhileMoving(Signature& previous, Signature& fresh);
+  bool isMoving(const Signature& previous, const Signature& fresh) const;
 
   MemoryOptions options_;
   db::Database* ltm_;
@@ -167,6 +204,7 @@ class Memory {
   long updateCounter_ = 0;
   int lastId_ = 0;
   int previousId_ = 0;  // location of the previous update (neighbour link, rehearsal)
+  int previousOfLast_ = 0;  // previousId_ when the last location was added (removeLastLocation)
   int lastGlobalLoopClosureId_ = 0;
   double wordsSum_ = 0.0;  // for the average words per location (bad signatures)
   long wordsLocations_ = 0;

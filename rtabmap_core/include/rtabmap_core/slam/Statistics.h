@@ -95,6 +95,7 @@
   X(Timing, Reactivation, ms)                       \
   X(Timing, Add_loop_closure_link, ms)              \
   X(Timing, Map_optimization, ms)                   \
+  X(Timing, Map_assembling, ms)                     \
   X(Timing, Likelihood_computation, ms)             \
   X(Timing, Posterior_computation, ms)              \
   X(Timing, Hypotheses_creation, ms)                \

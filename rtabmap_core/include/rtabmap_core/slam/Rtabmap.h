@@ -1,0 +1,137 @@
+#pragma once
+// RTAB-Map: graph-based SLAM with memory management (Labbé & Michaud: T-RO 2013 for loop
+// closure and memory management, IROS 2014 for multi-session, Autonomous Robots 2017 (SPLAM)
+// for proximity detection and planning, JFR 2019 for the whole pipeline).
+//
+//   Rtabmap slam;
+//   slam.init(parameters, "~/.ros/rtabmap.db");      // opens or creates the map, new session
+//   for (each frame with its odometry) {
+//     if (slam.process(data, odomPose, odomCovariance)) {
+//       publish(slam.mapCorrection());                // map -> odom
+//       const Statistics& s = slam.statistics();      // ids, timings, loop closures
+//     }
+//   }
+//   slam.close();                                     // everything in RAM is saved
+//
+// One process() call is one update (at most Rtabmap/DetectionRate per second of data stamps):
+//   memory update    the node (words, local grid, odometry pose and link) enters STM, or, if
+//                    the robot has not moved (RGBD/LinearUpdate, RGBD/AngularUpdate), only
+//                    rehearses the previous node and the update stops there;
+//   neighbour link   optionally refined by registration (RGBD/NeighborLinkRefining);
+//   loop closure     Bayes filter over WM; an accepted hypothesis is linked only if
+//                    registration (Reg/Strategy) finds its transform;
+//   retrieval        neighbours of the highest hypothesis, and LTM nodes near the robot;
+//   proximity        by space (see ProximityBySpace.h) when no loop closure was accepted;
+//   optimisation     of the local map (nodes in RAM linked to the current one) when links were
+//                    added; the new links are dropped again if the optimised graph disagrees
+//                    with them by more than RGBD/OptimizeMaxError standard deviations;
+//   map update       map -> odom, the global occupancy grid;
+//   transfer         to LTM when the update took more than Rtabmap/TimeThr or WM holds more
+//                    than Rtabmap/MemoryThr nodes (never the local map near the robot, the
+//                    hypothesis' neighbourhood or what was just retrieved).
+//
+// Sessions: every init() on an existing database starts a new map; so do triggerNewMap() and
+// an odometry reset (identity pose after motion, or a jump beyond RGBD/NewMapOdomChangeDistance).
+// A link between two maps merges them into one referential, the oldest one's.
+//
+// Localization (Mem/IncrementalMemory false): the database is opened read-only; each frame is
+// a temporary node used only to localise against the map (loop closure and proximity), then
+// forgotten; map -> odom moves by the localisations.
+//
+// Bad input never throws from process(): it is refused with the reason in lastRejection()
+// and a warning (null or non-finite pose, lost odometry, stamps going backwards). init()
+// throws ParameterError / DatabaseError.
+#include <Eigen/Core>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rtabmap_core/geometry/SensorData.h"
+#include "rtabmap_core/geometry/Transform.h"
+#include "rtabmap_core/maps/GridMap.h"
+#include "rtabmap_core/memory/Link.h"
+#include "rtabmap_core/params/Parameters.h"
+#include "rtabmap_core/slam/Statistics.h"
+
+namespace rtabmap {
+
+// Counts over the life of this Rtabmap (since init()).
+struct SlamSummary {
+  int updates = 0;            // process() calls
+  int nodesAdded = 0;         // nodes created (mapping)
+  int skippedRate = 0;        // dropped by Rtabmap/DetectionRate
+  int skippedStill = 0;       // robot did not move
+  int refused = 0;            // bad input (see lastRejection())
+  int loopClosures = 0;       // global loop closures linked
+  int proximityLinks = 0;     // proximity links by space
+  int rejectedLinks = 0;      // hypotheses whose registration failed + links undone by OptimizeMaxError
+  int localizations = 0;      // localization mode: updates localised on the map
+  int mapsStarted = 0;        // maps (sessions) started, the first one included
+  int transferred = 0, retrieved = 0;
+  int maxWmSize = 0;
+};
+
+class Rtabmap {
+ public:
+  Rtabmap();
+  ~Rtabmap();
+  Rtabmap(const Rtabmap&) = delete;
+  Rtabmap& operator=(const Rtabmap&) = delete;
+
+  // Opens (creates) the database and starts a session (a new map). databasePath "" = no
+  // long-term memory (no transfer or retrieval; nothing saved). Throws ParameterError for an
+  // invalid or undeclared parameter, DatabaseError for a database that cannot be used.
+  void init(const ParametersMap& parameters, const std::string& databasePath);
+  // Saves every node in RAM and the Working Memory state, closes the database.
+  void close();
+  bool isInitialized() const;
+
+  // One update with this frame and its odometry (pose in the odom frame, 6x6 covariance x y z
+  // roll pitch yaw; covariance >= 9999 on the diagonal = odometry lost). Returns true when the
+  // frame was used (a node added, merged, or a localisation done).
+  bool process(const SensorData& data, const Transform& odomPose,
+               const Eigen::Matrix<double, 6, 6>& odomCovariance = Eigen::Matrix<double, 6, 6>::Identity() * 1e-4);
+  // Same, with the pose and covariance carried by the data (SensorData::odomPose()).
+  bool process(const SensorData& data);
+
+  // Why the last process() refused its input ("" if it did not).
+  const std::string& lastRejection() const;
+  const Statistics& statistics() const;
+  SlamSummary summary() const;
+
+  // map -> odom.
+  Transform mapCorrection() const;
+  // The robot's pose in the map at the last update (null before the first).
+  Transform currentPose() const;
+  // Optimised poses of every node of the current referential (nodes in LTM keep the pose they
+  // had when they left RAM).
+  std::map<int, Transform> optimizedPoses() const;
+  // Links of the nodes in RAM (each once).
+  std::multimap<int, Link> localLinks() const;
+  // Every link of the map (database and RAM, each once).
+  std::multimap<int, Link> allLinks() const;
+  // Odometry pose of each node of the current referential that is known.
+  int mapId() const;
+  int lastNodeId() const;
+  std::vector<int> workingMemory() const;  // WM + STM ids
+
+  // Starts a new map (new map id) at the next update, as an odometry reset does.
+  void triggerNewMap();
+  // Labels (goals by name). False if the node is unknown or the label is used by another node.
+  bool setLabel(int nodeId, const std::string& label);
+  std::map<int, std::string> labels() const;
+  // The node with this label, 0 if none.
+  int nodeOfLabel(const std::string& label) const;
+
+  // The global occupancy grid (RGBD/CreateOccupancyGrid), assembled from the local grids with
+  // the optimised poses of the current referential. Empty without grids.
+  GridMap gridMap() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rtabmap

@@ -1,0 +1,53 @@
+#pragma once
+// Proximity detection by space (Labbé & Michaud, SPLAM paper, Autonomous Robots 2017, 3.3.3):
+// loop closures found from where the graph says the robot is, not from what it sees. This is
+// what closes a loop when the robot comes back the other way (the images do not match) or has
+// no camera at all.
+//
+//  1. Candidates: the nodes of the local map (in RAM, optimised poses) within RGBD/LocalRadius
+//     of the robot, at most RGBD/ProximityMaxGraphDepth links away, not in STM (those are the
+//     robot's recent past: odometry links them already) and not linked to the new node yet.
+//  2. Paths: the candidates grouped by neighbour links (pieces of earlier trajectories), most
+//     recent first, at most RGBD/ProximityMaxPaths.
+//  3. Per path whose node nearest to the robot is within RGBD/ProximityPathFilteringRadius:
+//     visual registration with that node if it faces the same way (RGBD/ProximityAngle); else
+//     (or when it fails) ICP of the new scan against the scans of the nearest node and its
+//     RGBD/ProximityPathMaxNeighbors path neighbours on each side, merged in the nearest node's
+//     frame (one-to-many), from the graph's relative pose as guess, refused when the scans'
+//     structural complexity is under Icp/PointToPlaneMinComplexity (a corridor: ICP would only
+//     echo the drifted guess along it); the covariance of a merged-scan link is multiplied by
+//     RGBD/ProximityMergedScanCovFactor (the merged scan's own error is unknown).
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "rtabmap_core/geometry/Transform.h"
+#include "rtabmap_core/memory/Link.h"
+#include "rtabmap_core/slam/RtabmapOptions.h"
+
+namespace rtabmap {
+
+namespace memory {
+class Memory;
+}
+class LinkRegistration;
+
+struct ProximityResult {
+  std::vector<Link> links;  // from the new node to the matched node
+  int paths = 0;
+  int visualChecked = 0, scanChecked = 0;
+  int addedVisually = 0, addedByScans = 0;
+  std::vector<std::string> rejections;  // why each tried registration failed
+};
+
+// `poses`: optimised poses of the nodes in RAM of the current referential (the new node
+// included). Never throws on bad sensor data (a failed registration is a rejection).
+ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, const std::map<int, Transform>& poses,
+                                       const RtabmapOptions& options, const LinkRegistration& registration,
+                                       bool covOffDiagIgnored);
+
+// Paths of step 2, for tests: candidate ids grouped by neighbour links, most recent first.
+std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates);
+
+}  // namespace rtabmap

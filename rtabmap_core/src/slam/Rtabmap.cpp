@@ -1,0 +1,117 @@
+#include "rtabmap_core/slam/Rtabmap.h"
+
+#include "RtabmapImpl.h"
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/optimizer/Graph.h"
+
+namespace rtabmap {
+
+Rtabmap::Rtabmap() : impl_(std::make_unique<Impl>()) {}
+
+Rtabmap::~Rtabmap() {
+  try {
+    close();
+  } catch (const std::exception& e) {
+    RTABMAP_ERROR("closing the map: " << e.what());
+  }
+}
+
+void Rtabmap::init(const ParametersMap& parameters, const std::string& databasePath) {
+  if (impl_->initialized) close();
+  impl_ = std::make_unique<Impl>();
+  impl_->open(parameters, databasePath);
+}
+
+void Rtabmap::close() { impl_->close(); }
+
+bool Rtabmap::isInitialized() const { return impl_->initialized; }
+
+bool Rtabmap::process(const SensorData& data, const Transform& odomPose, const Eigen::Matrix<double, 6, 6>& odomCovariance) {
+  return impl_->process(data, odomPose, odomCovariance);
+}
+
+bool Rtabmap::process(const SensorData& data) { return process(data, data.odomPose(), data.odomCovariance()); }
+
+const std::string& Rtabmap::lastRejection() const { return impl_->rejection; }
+const Statistics& Rtabmap::statistics() const { return impl_->stats; }
+SlamSummary Rtabmap::summary() const { return impl_->summary; }
+Transform Rtabmap::mapCorrection() const { return impl_->mapCorrection; }
+Transform Rtabmap::currentPose() const { return impl_->currentPose; }
+int Rtabmap::mapId() const { return impl_->mapId; }
+int Rtabmap::lastNodeId() const { return impl_->lastNodeId; }
+
+std::map<int, Transform> Rtabmap::optimizedPoses() const { return impl_->graph.posesOfGroup(impl_->mapId); }
+
+std::multimap<int, Link> Rtabmap::localLinks() const {
+  if (!impl_->detector) return {};
+  std::map<int, Transform> all;
+  for (int id : workingMemory()) all.emplace(id, Transform::Identity());
+  return impl_->ramLinks(all);
+}
+
+std::multimap<int, Link> Rtabmap::allLinks() const {
+  std::multimap<int, Link> links;
+  if (impl_->db) {
+    impl_->db->flush();
+    links = impl_->db->loadAllLinks(false);
+  }
+  // RAM holds links not saved yet (and links removed since): RAM wins for its nodes.
+  const std::multimap<int, Link> ram = localLinks();
+  std::set<int> inRam;
+  for (int id : workingMemory()) inRam.insert(id);
+  std::multimap<int, Link> out;
+  for (const auto& [from, link] : links) {
+    if (!inRam.count(link.from()) || !inRam.count(link.to())) out.emplace(from, link);
+  }
+  for (const auto& [from, link] : ram) out.emplace(from, link);
+  return out;
+}
+
+std::vector<int> Rtabmap::workingMemory() const {
+  std::vector<int> ids;
+  if (!impl_->detector) return ids;
+  const memory::Memory& m = impl_->detector->memory();
+  for (const auto& [id, age] : m.wm()) {
+    (void)age;
+    ids.push_back(id);
+  }
+  ids.insert(ids.end(), m.stm().begin(), m.stm().end());
+  return ids;
+}
+
+void Rtabmap::triggerNewMap() {
+  if (!impl_->options.incremental) {
+    RTABMAP_WARN("trigger new map ignored: localization mode does not modify the map");
+    return;
+  }
+  impl_->newMapPending = true;
+}
+
+bool Rtabmap::setLabel(int nodeId, const std::string& label) {
+  if (!impl_->detector) return false;
+  const int owner = nodeOfLabelIn(impl_->labelCache, label);
+  if (!label.empty() && owner != 0 && owner != nodeId) {
+    RTABMAP_WARN("label \"" << label << "\" is already on node " << owner);
+    return false;
+  }
+  if (!impl_->options.incremental) {
+    RTABMAP_WARN("labels cannot be set in localization mode (the map is not modified)");
+    return false;
+  }
+  if (!impl_->detector->memory().setLabel(nodeId, label)) return false;
+  if (label.empty()) {
+    impl_->labelCache.erase(nodeId);
+  } else {
+    impl_->labelCache[nodeId] = label;
+  }
+  return true;
+}
+
+std::map<int, std::string> Rtabmap::labels() const { return impl_->labelCache; }
+
+int Rtabmap::nodeOfLabel(const std::string& label) const { return nodeOfLabelIn(impl_->labelCache, label); }
+
+GridMap Rtabmap::gridMap() const { return impl_->grid ? impl_->grid->map() : GridMap(); }
+
+}  // namespace rtabmap

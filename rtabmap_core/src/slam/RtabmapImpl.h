@@ -1,0 +1,129 @@
+#pragma once
+// Internals of Rtabmap (private to the slam area): the state one session keeps between
+// updates, and the stages of an update, each a small function (RtabmapUpdate.cpp,
+// RtabmapGraph.cpp, RtabmapNode.cpp, RtabmapSession.cpp).
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "LinkRegistration.h"
+#include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/features/FeatureDetector.h"
+#include "rtabmap_core/maps/LocalGridOptions.h"
+#include "rtabmap_core/maps/OccupancyGrid.h"
+#include "rtabmap_core/memory/LoopClosureDetector.h"
+#include "rtabmap_core/optimizer/Optimizer.h"
+#include "rtabmap_core/slam/Rtabmap.h"
+#include "rtabmap_core/slam/RtabmapOptions.h"
+#include "rtabmap_core/slam/SessionGraph.h"
+
+namespace rtabmap {
+
+using Covariance6 = Eigen::Matrix<double, 6, 6>;
+
+// The node holding `label`, 0 if none.
+inline int nodeOfLabelIn(const std::map<int, std::string>& labels, const std::string& label) {
+  for (const auto& [id, l] : labels) {
+    if (l == label) return id;
+  }
+  return 0;
+}
+
+// Times one stage into a statistic (ms).
+class StageTimer {
+ public:
+  StageTimer(Statistics& stats, const char* key) : stats_(stats), key_(key), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() { stats_.addStatistic(key_, static_cast<float>(ms())); }
+  double ms() const {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  Statistics& stats_;
+  const char* key_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+struct Rtabmap::Impl {
+  // --- configuration ---
+  ParametersMap parameters;
+  RtabmapOptions options;
+  memory::LoopClosureDetectorOptions detectorOptions;
+  OptimizerOptions optimizer;
+  std::optional<LocalGridOptions> gridOptions;
+
+  // --- components ---
+  std::unique_ptr<db::Database> db;
+  std::unique_ptr<memory::LoopClosureDetector> detector;
+  std::unique_ptr<FeatureDetector> wordDetector;  // Kp/ features when odometry's cannot be reused
+  bool odomFeaturesCompatible = false;           // Kp/DetectorStrategy == Vis/FeatureType
+  std::unique_ptr<LinkRegistration> registration;
+  std::unique_ptr<OccupancyGrid> grid;
+  SessionGraph graph;
+
+  // --- session state ---
+  bool initialized = false;
+  int mapId = 0;
+  bool newMapPending = false;
+  Transform mapCorrection = Transform::Identity();
+  Transform lastOdom;          // odometry pose of the last accepted input
+  Transform lastNodeOdom;      // odometry pose of the last node of the current map
+  int lastNodeId = 0;          // last node of the current map
+  double lastStamp = 0.0;      // stamp of the last accepted input
+  double lastUpdateStamp = -1.0;  // stamp of the last update that passed the rate limit
+  Transform currentPose;       // robot in the map at the last update
+  // Covariance of the odometry motion since the last node: the sum of the frames' incremental
+  // covariances (frames skipped by the rate or while still included), the neighbour link's.
+  Covariance6 motionCovariance = Covariance6::Zero();
+  // Localization mode
+  bool localized = false;
+  Transform initialLocalizationPose;  // last pose of the saved map (RGBD/StartAtOrigin false)
+  std::map<int, std::string> labelCache;
+
+  // --- outputs ---
+  Statistics stats;
+  SlamSummary summary;
+  std::string rejection;
+
+  // RtabmapSession.cpp
+  void open(const ParametersMap& parameters, const std::string& databasePath);
+  void loadExistingMap();
+  void loadWorkingMemory(const std::vector<int>& allIds);
+  void loadLocalGrids(const std::vector<int>& ids);
+  void close();
+  void startNewMap();
+
+  // RtabmapUpdate.cpp
+  bool process(const SensorData& data, const Transform& odom, const Covariance6& covariance);
+  bool refuse(const std::string& why);
+  bool checkInput(const SensorData& data, const Transform& odom, const Covariance6& covariance);
+  bool rateLimited(double stamp);
+  bool isStill(const Transform& odom) const;
+  bool mappingUpdate(const SensorData& data, const Transform& odom);
+  bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
+  void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
+
+  // RtabmapNode.cpp: what a new node is made of.
+  memory::LocationInput makeLocation(const SensorData& data, const Transform& odom, const Covariance6& covariance);
+  void extractWords(const SensorData& data, memory::LocationInput& in);
+  void refineNeighborLink(int newId);
+  // Registration of an accepted hypothesis; the link, or nullopt (rejected, reason logged).
+  // checkDistance: refuse a link that moves the robot more than RGBD/MaxLoopClosureDistance
+  // from where the graph puts it (not before a first localization: the robot is anywhere).
+  std::optional<Link> verifyLoopClosure(int newId, int hypothesisId, bool checkDistance);
+
+  // RtabmapGraph.cpp
+  std::map<int, Transform> ramPosesOfGroup() const;
+  std::multimap<int, Link> ramLinks(const std::map<int, Transform>& poses) const;
+  // Optimises the local map. With new links, drops them again when the result disagrees with
+  // them (RGBD/OptimizeMaxError). Returns the links kept.
+  std::vector<Link> optimizeLocalMap(int newId, const std::vector<Link>& newLinks);
+  void retrieveNearRobot(const Transform& pose, memory::LoopClosureUpdate& u, std::set<int>& immune);
+  std::set<int> localImmunity(const Transform& pose) const;
+};
+
+}  // namespace rtabmap

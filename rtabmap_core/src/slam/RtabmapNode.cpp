@@ -1,0 +1,134 @@
+// What a new node is made of (Algorithm 2 with the metric parts of JFR 2019, 3.2): visual
+// words, local occupancy grid, compressed sensor data, odometry pose and link information; and
+// the registrations that give links their transforms.
+#include "RtabmapImpl.h"
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/maps/LocalGridMaker.h"
+
+namespace rtabmap {
+
+void Rtabmap::Impl::extractWords(const SensorData& data, memory::LocationInput& in) {
+  if (!wordDetector) return;
+  // Mem/UseOdomFeatures: odometry already extracted features of the same kind; Memory keeps
+  // the Kp/MaxFeatures strongest of them.
+  if (options.useOdomFeatures && odomFeaturesCompatible && !data.keypoints().empty() &&
+      data.descriptors().rows == static_cast<int>(data.keypoints().size())) {
+    in.keypoints = data.keypoints();
+    in.descriptors = data.descriptors();
+    if (data.keypoints3D().size() == data.keypoints().size()) in.points3D = data.keypoints3D();
+    return;
+  }
+  if (data.imageRaw().empty()) return;
+  FeatureExtractionInfo info;
+  ImageFeatures f = wordDetector->extract(data, &info);
+  if (!info.problem.empty()) RTABMAP_DEBUG("no visual words for frame " << data.id() << ": " << info.problem);
+  in.keypoints = std::move(f.keypoints);
+  in.descriptors = f.descriptors;
+  in.points3D = std::move(f.points3D);
+}
+
+memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const Transform& odom,
+                                                  const Covariance6& covariance) {
+  memory::LocationInput in;
+  SensorData data = raw;
+  if (data.imageRaw().empty() && !data.imageCompressed().empty()) {
+    try {
+      data.uncompress(true, true, false, false);
+    } catch (const Error& e) {
+      RTABMAP_WARN("frame " << raw.id() << ": images cannot be uncompressed (" << e.what() << "): no visual words");
+    }
+  }
+  {
+    StageTimer t(stats, Statistics::kTimingMemKeypoints_detection);
+    extractWords(data, in);
+  }
+  if (gridOptions && data.localGrid().isEmpty()) {
+    StageTimer t(stats, Statistics::kTimingMemOccupancy_grid);
+    LocalGridResult g = createLocalGrid(data, *gridOptions);
+    if (g.success) {
+      data.setLocalGrid(g.grid);
+    } else {
+      RTABMAP_DEBUG("frame " << raw.id() << ": no local grid: " << g.why);
+    }
+  }
+  {
+    // Working Memory holds images compressed (what the database stores); the scan stays raw
+    // too, as proximity detection matches it again and again.
+    StageTimer t(stats, Statistics::kTimingMemCompressing_data);
+    data.compress(options.imageFormat);
+    if (!options.imageKept) {
+      const LaserScan scan = data.laserScanRaw();
+      data.clearRaw();
+      data.setLaserScan(scan);
+    }
+    data.setFeatures({}, {}, cv::Mat());  // the words hold what is kept of them
+  }
+  in.data = data;
+  in.pose = odom;
+  in.stamp = raw.stamp();
+  in.mapId = mapId;
+  in.odomInformation = informationOf(covariance, options.covOffDiagIgnored);
+  return in;
+}
+
+// RGBD/NeighborLinkRefining: the odometry link to the previous node re-estimated by
+// registration (ICP on scans typically), from odometry as guess. Wheel odometry drifts; the
+// scans do not.
+void Rtabmap::Impl::refineNeighborLink(int newId) {
+  memory::Memory& memory = detector->memory();
+  Signature* current = memory.mutableSignature(newId);
+  if (!current) return;
+  StageTimer timer(stats, Statistics::kTimingNeighbor_link_refining);
+  for (const auto& [to, link] : std::multimap<int, Link>(current->getLinks())) {
+    if (link.type() != Link::kNeighbor || to >= newId) continue;
+    Signature* previous = memory.mutableSignature(to);
+    if (!previous) continue;
+    RegistrationInfo info;
+    const Link forward = link.inverse();  // previous -> new
+    const Transform t = registration->compute(*previous, *current, forward.transform(), &info);
+    stats.addStatistic(Statistics::kNeighborLinkRefiningAccepted, t.isNull() ? 0.f : 1.f);
+    if (t.isNull()) {
+      RTABMAP_DEBUG("neighbour link " << to << "->" << newId << " not refined: " << info.rejectedMsg);
+      continue;
+    }
+    stats.addStatistic(Statistics::kNeighborLinkRefiningICP_inliers_ratio, static_cast<float>(info.icpInliersRatio));
+    memory.addLink(Link(to, newId, Link::kNeighbor, t, forward.infMatrix()));
+    const Transform previousPose = graph.pose(to);
+    if (!previousPose.isNull()) graph.setPose(newId, mapId, previousPose * t);
+  }
+}
+
+std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId, bool checkDistance) {
+  memory::Memory& memory = detector->memory();
+  Signature* current = memory.mutableSignature(newId);
+  Signature* hypothesis = memory.mutableSignature(hypothesisId);
+  if (!current || !hypothesis) return std::nullopt;
+  StageTimer timer(stats, Statistics::kTimingHypotheses_validation);
+  // Appearance gives no motion guess; ICP alone only refines one (the identity, if the user
+  // says loop closures are seen from the same spot).
+  const Transform guess = options.loopClosureIdentityGuess ? Transform::Identity() : Transform();
+  RegistrationInfo info;
+  const Transform t = registration->compute(*current, *hypothesis, guess, &info);
+  stats.addStatistic(Statistics::kLoopVisual_matches, static_cast<float>(info.matches));
+  stats.addStatistic(Statistics::kLoopVisual_inliers, static_cast<float>(info.inliers));
+  if (t.isNull()) {
+    RTABMAP_INFO("loop closure " << newId << "->" << hypothesisId << " rejected: " << info.rejectedMsg);
+    return std::nullopt;
+  }
+  if (checkDistance && options.maxLoopClosureDistance > 0.0f) {
+    const Transform there = graph.pose(hypothesisId), here = graph.pose(newId);
+    if (!there.isNull() && !here.isNull() && graph.sameGroup(graph.mapOf(hypothesisId), mapId)) {
+      const double jump = (there * t.inverse()).getDistance(here);
+      if (jump > options.maxLoopClosureDistance) {
+        RTABMAP_INFO("loop closure " << newId << "->" << hypothesisId << " rejected: it moves the robot by " << jump
+                                     << " m, more than " << Parameters::kRGBDMaxLoopClosureDistance() << " "
+                                     << options.maxLoopClosureDistance);
+        return std::nullopt;
+      }
+    }
+  }
+  return Link(newId, hypothesisId, Link::kGlobalClosure, t, informationOf(info.covariance, options.covOffDiagIgnored));
+}
+
+}  // namespace rtabmap

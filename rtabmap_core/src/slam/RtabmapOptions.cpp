@@ -1,0 +1,71 @@
+#include "rtabmap_core/slam/RtabmapOptions.h"
+
+#include <cmath>
+
+#include "rtabmap_core/common/Error.h"
+
+namespace rtabmap {
+
+RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
+  using P = Parameters;
+  RtabmapOptions o;
+  o.detectionRate = P::getFloat(p, P::kRtabmapDetectionRate());
+  o.metric = P::getBool(p, P::kRGBDEnabled());
+  o.incremental = P::getBool(p, P::kMemIncrementalMemory());
+  o.linearUpdate = P::getFloat(p, P::kRGBDLinearUpdate());
+  o.angularUpdate = P::getFloat(p, P::kRGBDAngularUpdate());
+  o.newMapOdomChangeDistance = P::getFloat(p, P::kRGBDNewMapOdomChangeDistance());
+  o.createOccupancyGrid = P::getBool(p, P::kRGBDCreateOccupancyGrid());
+  o.useOdomFeatures = P::getBool(p, P::kMemUseOdomFeatures());
+  o.covOffDiagIgnored = P::getBool(p, P::kMemCovOffDiagIgnored());
+  o.imageKept = P::getBool(p, P::kMemImageKept());
+  o.imageFormat = P::getString(p, P::kMemImageCompressionFormat());
+  o.mapLabelsAdded = P::getBool(p, P::kMemMapLabelsAdded());
+  o.initWMWithAllNodes = P::getBool(p, P::kMemInitWMWithAllNodes());
+  o.regStrategy = P::getInt(p, P::kRegStrategy());
+  o.force3DoF = P::getBool(p, P::kRegForce3DoF());
+  o.loopClosureIdentityGuess = P::getBool(p, P::kRGBDLoopClosureIdentityGuess());
+  o.neighborLinkRefining = P::getBool(p, P::kRGBDNeighborLinkRefining());
+  o.loopCovLimited = P::getBool(p, P::kRGBDLoopCovLimited());
+  o.proximityBySpace = P::getBool(p, P::kRGBDProximityBySpace());
+  o.localRadius = P::getFloat(p, P::kRGBDLocalRadius());
+  o.proximityMaxGraphDepth = P::getInt(p, P::kRGBDProximityMaxGraphDepth());
+  o.proximityMaxPaths = P::getInt(p, P::kRGBDProximityMaxPaths());
+  o.proximityPathFilteringRadius = P::getFloat(p, P::kRGBDProximityPathFilteringRadius());
+  o.proximityPathMaxNeighbors = P::getInt(p, P::kRGBDProximityPathMaxNeighbors());
+  o.proximityPathRawPosesUsed = P::getBool(p, P::kRGBDProximityPathRawPosesUsed());
+  o.proximityAngle = P::getFloat(p, P::kRGBDProximityAngle());
+  o.proximityOdomGuess = P::getBool(p, P::kRGBDProximityOdomGuess());
+  o.proximityMergedScanCovFactor = P::getDouble(p, P::kRGBDProximityMergedScanCovFactor());
+  o.optimizeMaxError = P::getFloat(p, P::kRGBDOptimizeMaxError());
+  o.optimizeFromGraphEnd = P::getBool(p, P::kRGBDOptimizeFromGraphEnd());
+  o.maxLoopClosureDistance = P::getFloat(p, P::kRGBDMaxLoopClosureDistance());
+  o.maxLocalRetrieved = P::getInt(p, P::kRGBDMaxLocalRetrieved());
+  o.localImmunizationRatio = P::getFloat(p, P::kRGBDLocalImmunizationRatio());
+  o.startAtOrigin = P::getBool(p, P::kRGBDStartAtOrigin());
+  o.maxOdomCacheSize = P::getInt(p, P::kRGBDMaxOdomCacheSize());
+  std::string why;
+  if (!o.IsValid(&why)) throw ParameterError(why);
+  return o;
+}
+
+bool RtabmapOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(detectionRate >= 0.0f) || !std::isfinite(detectionRate)) return fail(Parameters::kRtabmapDetectionRate() + " must be >= 0");
+  if (regStrategy < 0 || regStrategy > 2) return fail(Parameters::kRegStrategy() + " must be 0, 1 or 2");
+  if (!(localRadius > 0.0f)) return fail(Parameters::kRGBDLocalRadius() + " must be > 0");
+  if (proximityPathMaxNeighbors < 0 || proximityMaxPaths < 0 || proximityMaxGraphDepth < 0) {
+    return fail("RGBD/ProximityPathMaxNeighbors, RGBD/ProximityMaxPaths and RGBD/ProximityMaxGraphDepth must be >= 0");
+  }
+  if (!(proximityMergedScanCovFactor > 0.0)) return fail(Parameters::kRGBDProximityMergedScanCovFactor() + " must be > 0");
+  if (!(optimizeMaxError >= 0.0f)) return fail(Parameters::kRGBDOptimizeMaxError() + " must be >= 0");
+  if (!incremental && !metric) {
+    return fail(Parameters::kMemIncrementalMemory() + " false (localization) needs " + Parameters::kRGBDEnabled() + " true");
+  }
+  return true;
+}
+
+}  // namespace rtabmap

@@ -1,0 +1,151 @@
+// Rtabmap sessions: opening a map (new or existing: multi-session, IROS 2014), the Working
+// Memory it starts with, new maps, closing.
+#include <filesystem>
+
+#include "RtabmapImpl.h"
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/optimizer/Graph.h"
+
+namespace rtabmap {
+
+void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath) {
+  Parameters::validate(p);
+  parameters = p;
+  options = RtabmapOptions::fromParameters(p);
+  detectorOptions = memory::LoopClosureDetectorOptions::fromParameters(p);
+  optimizer = OptimizerOptions::fromParameters(p);
+  if (options.metric) registration = std::make_unique<LinkRegistration>(p);
+  if (options.createOccupancyGrid) {
+    gridOptions = LocalGridOptions::fromParameters(p);
+    grid = std::make_unique<OccupancyGrid>(GlobalGridOptions::fromParameters(p));
+  }
+  if (Parameters::getInt(p, Parameters::kKpMaxFeatures()) >= 0) {
+    wordDetector = FeatureDetector::create(p, FeatureGroup::kKp);
+    odomFeaturesCompatible =
+        Parameters::getInt(p, Parameters::kKpDetectorStrategy()) == Parameters::getInt(p, Parameters::kVisFeatureType());
+  }
+
+  if (!databasePath.empty()) {
+    db::DatabaseOptions dbOptions = db::DatabaseOptions::fromParameters(p);
+    // Localization never modifies the map: not even a session row.
+    dbOptions.readOnly = !options.incremental;
+    if (!options.incremental && !std::filesystem::exists(databasePath)) {
+      throw DatabaseError("localization mode (" + Parameters::kMemIncrementalMemory() + " false) needs an existing map: " +
+                          databasePath + " does not exist");
+    }
+    dbOptions.imageFormat = options.imageFormat;
+    db = std::make_unique<db::Database>(databasePath, dbOptions);
+  }
+  detector = std::make_unique<memory::LoopClosureDetector>(detectorOptions, db.get());
+  mapId = 0;
+  if (db) mapId = options.incremental ? db->sessionMapId() : std::max(0, db->lastMapId());
+  if (db && db->lastNodeId() > 0) loadExistingMap();
+  summary.mapsStarted = options.incremental ? 1 : 0;
+  initialized = true;
+}
+
+// Every node of the database is known to the session graph with its pose, optimised once per
+// connected component (the oldest node of each fixed), so earlier sessions are in their own
+// referential and the maps merged by links share the oldest one's.
+void Rtabmap::Impl::loadExistingMap() {
+  const std::map<int, Signature> headers = db->loadAllNodeHeaders();
+  const std::multimap<int, Link> links = db->loadAllLinks(false);
+  std::map<int, Transform> odomPoses;
+  for (const auto& [id, s] : headers) {
+    graph.setPose(id, s.mapId(), Transform());
+    odomPoses.emplace(id, s.getPose().isNull() ? Transform::Identity() : s.getPose());
+    if (!s.label().empty()) labelCache[id] = s.label();
+  }
+  for (const auto& [from, link] : links) {
+    const int a = graph.mapOf(link.from()), b = graph.mapOf(link.to());
+    if (a >= 0 && b >= 0 && a != b) graph.mergeMaps(a, b);
+  }
+  for (const std::set<int>& component : graph::connectedComponents(odomPoses, links)) {
+    std::map<int, Transform> poses;
+    for (int id : component) poses.emplace(id, odomPoses.at(id));
+    if (poses.size() == 1) {
+      graph.updatePoses(poses);
+      continue;
+    }
+    graph::Links inside;
+    for (const auto& [from, link] : links) {
+      if (component.count(link.from()) && component.count(link.to())) inside.emplace(from, link);
+    }
+    OptimizerSummary s;
+    const std::map<int, Transform> optimised = optimizeGraph(optimizer, poses, inside, &s, *component.begin());
+    if (!s.success) RTABMAP_WARN("map of node " << *component.begin() << ": optimisation failed at start: " << s.why);
+    graph.updatePoses(optimised);
+  }
+  // Localization starts where the last session ended, unless RGBD/StartAtOrigin.
+  initialLocalizationPose = graph.pose(db->lastNodeId());
+
+  std::vector<int> allIds;
+  for (const auto& [id, s] : headers) allIds.push_back(id);
+  loadWorkingMemory(allIds);
+  if (grid) loadLocalGrids(allIds);
+  RTABMAP_INFO("loaded map " << db->path() << ": " << headers.size() << " nodes, " << links.size() << " links, "
+                             << detector->memory().wm().size() << " in Working Memory; new map id " << mapId);
+}
+
+// Mem/InitWMWithAllNodes: every node; otherwise the Working Memory the last session closed
+// with (all nodes when it did not close cleanly and left none).
+void Rtabmap::Impl::loadWorkingMemory(const std::vector<int>& allIds) {
+  std::vector<int> ids;
+  if (!options.initWMWithAllNodes) {
+    const std::optional<db::StoredStatistics> last = db->loadStatistics(db->lastNodeId());
+    if (last) ids = last->wmState;
+  }
+  if (ids.empty()) ids = allIds;
+  detector->memory().retrieveIds(ids);
+}
+
+void Rtabmap::Impl::loadLocalGrids(const std::vector<int>& ids) {
+  db::LoadOptions gridOnly = db::LoadOptions::nodeOnly();
+  gridOnly.grid = true;
+  constexpr size_t kBatch = 256;
+  for (size_t i = 0; i < ids.size(); i += kBatch) {
+    const std::vector<int> batch(ids.begin() + i, ids.begin() + std::min(ids.size(), i + kBatch));
+    for (const Signature& s : db->loadNodes(batch, gridOnly)) {
+      if (!s.sensorData().localGrid().isEmpty()) grid->addLocalGrid(s.id(), s.sensorData().localGrid());
+    }
+  }
+}
+
+void Rtabmap::Impl::startNewMap() {
+  newMapPending = false;
+  if (lastNodeId == 0 && summary.nodesAdded == 0) return;  // nothing in the current map yet
+  const int previous = mapId;
+  mapId = std::max(mapId, std::max(graph.mapOf(lastNodeId), db ? db->lastMapId() : 0)) + 1;
+  mapCorrection = Transform::Identity();
+  lastNodeOdom = Transform();
+  lastNodeId = 0;
+  ++summary.mapsStarted;
+  RTABMAP_INFO("new map " << mapId << " (previous " << previous << ")");
+}
+
+void Rtabmap::Impl::close() {
+  if (!initialized) return;
+  initialized = false;
+  if (db && options.incremental) {
+    memory::Memory& memory = detector->memory();
+    memory.saveAll();
+    // The Working Memory this session ends with is where the next one starts.
+    db::StoredStatistics last;
+    last.nodeId = memory.lastLocationId();
+    for (int id : memory.stm()) last.wmState.push_back(id);
+    for (const auto& [id, age] : memory.wm()) {
+      (void)age;
+      last.wmState.push_back(id);
+    }
+    last.data = stats.data();
+    if (memory.inRam(last.nodeId)) db->saveStatistics(last);
+  }
+  detector.reset();
+  if (db) {
+    std::unique_ptr<db::Database> closing = std::move(db);
+    closing->close();
+  }
+}
+
+}  // namespace rtabmap

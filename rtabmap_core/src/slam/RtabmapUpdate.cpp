@@ -1,0 +1,334 @@
+// One update of RTAB-Map (JFR 2019, Figure 2; T-RO 2013, Algorithm 1): input checks, then the
+// mapping update or the localization update, each a sequence of named stages timed into the
+// statistics.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "ProximityBySpace.h"
+#include "RtabmapImpl.h"
+#include "rtabmap_core/common/Log.h"
+
+namespace rtabmap {
+namespace {
+
+bool isLostCovariance(const Covariance6& c) { return c.diagonal().maxCoeff() >= 9999.0; }
+
+}  // namespace
+
+bool Rtabmap::Impl::refuse(const std::string& why) {
+  rejection = why;
+  ++summary.refused;
+  RTABMAP_WARN("update refused: " << why);
+  return false;
+}
+
+bool Rtabmap::Impl::checkInput(const SensorData& data, const Transform& odom, const Covariance6& covariance) {
+  if (options.metric) {
+    if (odom.isNull()) return refuse("odometry pose is null (odometry lost or not started); waiting for a valid pose");
+    if (odom.isInvalid()) return refuse("odometry pose is not finite: " + odom.prettyPrint());
+    if (!covariance.allFinite()) return refuse("odometry covariance is not finite");
+    if (isLostCovariance(covariance)) return refuse("odometry is lost (covariance 9999); waiting for it to recover");
+  }
+  const double stamp = data.stamp();
+  if (!std::isfinite(stamp)) return refuse("stamp is not finite");
+  if (stamp > 0.0 && lastStamp > 0.0 && stamp < lastStamp) {
+    // A bag restarted with its odometry: a new map. Otherwise an out-of-order frame.
+    if (options.metric && odom.isIdentity(1e-6) && !lastOdom.isNull() && !lastOdom.isIdentity(1e-6)) return true;
+    return refuse("stamp " + std::to_string(stamp) + " is older than the previous input's " + std::to_string(lastStamp) +
+                  " (out of order, or time jumped back without an odometry reset)");
+  }
+  return true;
+}
+
+bool Rtabmap::Impl::rateLimited(double stamp) {
+  if (options.detectionRate <= 0.0f || stamp <= 0.0 || lastUpdateStamp < 0.0) return false;
+  // A small tolerance: a 1 Hz rate keeps the frame stamped 0.9999 s after the last update.
+  return stamp - lastUpdateStamp < 1.0 / options.detectionRate - 1e-3;
+}
+
+bool Rtabmap::Impl::isStill(const Transform& odom) const {
+  if (!options.metric || lastNodeOdom.isNull() || (options.linearUpdate <= 0.0f && options.angularUpdate <= 0.0f)) {
+    return false;
+  }
+  const Transform motion = lastNodeOdom.inverse() * odom;
+  return motion.getNorm() < options.linearUpdate && std::fabs(motion.getAngle()) < options.angularUpdate;
+}
+
+bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const Covariance6& covariance) {
+  if (!initialized) throw std::logic_error("Rtabmap::process: init() was not called");
+  ++summary.updates;
+  rejection.clear();
+  if (!checkInput(data, odom, covariance)) return false;
+
+  // Odometry reset (identity after motion, or a jump): a new map, as the original does.
+  if (options.metric && options.incremental && !lastOdom.isNull() && lastNodeId != 0) {
+    const bool backToIdentity = odom.isIdentity(1e-6) && !lastOdom.isIdentity(1e-6);
+    const bool jumped = options.newMapOdomChangeDistance > 0.0f &&
+                        (lastOdom.inverse() * odom).getNorm() > options.newMapOdomChangeDistance;
+    if (backToIdentity || jumped) {
+      RTABMAP_WARN("odometry was reset (" << (jumped ? "jump" : "identity pose") << "): starting a new map");
+      newMapPending = true;
+    }
+  }
+  if (newMapPending) motionCovariance.setZero();
+  motionCovariance += covariance;
+  if (!newMapPending && rateLimited(data.stamp())) {
+    ++summary.skippedRate;
+    lastOdom = odom;
+    if (data.stamp() > 0.0) lastStamp = data.stamp();
+    return false;
+  }
+  if (newMapPending) startNewMap();
+  lastOdom = odom;
+  if (data.stamp() > 0.0) {
+    lastStamp = data.stamp();
+    lastUpdateStamp = data.stamp();
+  }
+  stats = Statistics();
+  return options.incremental ? mappingUpdate(data, odom) : localizationUpdate(data, odom, covariance);
+}
+
+bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom) {
+  const auto start = std::chrono::steady_clock::now();
+  memory::Memory& memory = detector->memory();
+  memory::LoopClosureUpdate u;
+  const size_t vocabularyAtStart = memory.vocabulary().size();
+  const bool still = isStill(odom);
+
+  // --- memory update: a new node, or rehearsal only when the robot did not move ---
+  memory::AddResult added;
+  {
+    StageTimer t(stats, Statistics::kTimingMemory_update);
+    added = detector->addLocation(makeLocation(data, odom, motionCovariance), u);
+  }
+  stats.addStatistic(Statistics::kMemoryRehearsal_merged, added.merged ? static_cast<float>(added.mergedWith) : 0.f);
+  stats.addStatistic(Statistics::kMemorySimilarity, added.rehearsalSimilarity);
+  stats.addStatistic(Statistics::kMemorySmall_movement, still ? 1.f : 0.f);
+  if (added.id == 0) return refuse("frame " + std::to_string(data.id()) + " has too few visual words (Mem/BadSignaturesIgnored)");
+  if (still) {
+    // The robot stayed: the previous node was rehearsed (weight) if it looked the same; the
+    // frame adds nothing to the map.
+    if (!added.merged) memory.removeLastLocation();
+    ++summary.skippedStill;
+    return added.merged;
+  }
+  if (!options.metric && added.merged) {
+    stats.refImageId = added.id;
+  }
+  const int newId = added.id;
+  const bool firstOfMap = lastNodeId == 0;
+  if (options.metric && !added.merged) {
+    graph.setPose(newId, mapId, mapCorrection * odom);
+    motionCovariance.setZero();
+    lastNodeOdom = odom;
+    lastNodeId = newId;
+    ++summary.nodesAdded;
+    if (firstOfMap && options.mapLabelsAdded) {
+      const std::string label = "map" + std::to_string(mapId);
+      if (!labelCache.count(newId) && nodeOfLabelIn(labelCache, label) == 0 && memory.setLabel(newId, label)) {
+        labelCache[newId] = label;
+      }
+    }
+    if (options.neighborLinkRefining && !firstOfMap) refineNeighborLink(newId);
+  }
+
+  // --- loop closure detection, verified by registration in metric SLAM ---
+  detector->detect(newId, u, true);
+  std::vector<Link> newLinks;
+  if (u.highest.accepted) {
+    std::optional<Link> link;
+    if (options.metric) {
+      link = verifyLoopClosure(newId, u.highest.id, true);
+    } else {
+      link = Link(newId, u.highest.id, Link::kGlobalClosure, Transform::Identity());
+    }
+    if (link) {
+      detector->acceptLoopClosure(*link);
+      graph.mergeMaps(graph.mapOf(u.highest.id), mapId);
+      newLinks.push_back(*link);
+    } else {
+      ++summary.rejectedLinks;
+      stats.addStatistic(Statistics::kLoopRejected_hypothesis, 1.f);
+    }
+  }
+
+  // --- retrieval: around the hypothesis, and near the robot ---
+  std::set<int> immune;
+  {
+    StageTimer t(stats, Statistics::kTimingReactivation);
+    detector->retrieveNeighbors(u.highest.id, u, immune);
+    if (options.metric) retrieveNearRobot(graph.pose(newId), u, immune);
+  }
+
+  // --- proximity detection by space ---
+  if (options.metric && options.proximityBySpace && newLinks.empty()) {
+    StageTimer t(stats, Statistics::kTimingProximity_by_space);
+    ProximityResult p = detectProximityBySpace(memory, newId, ramPosesOfGroup(), options, *registration,
+                                               options.covOffDiagIgnored);
+    for (const Link& l : p.links) {
+      memory.addLink(l);
+      detector->linksChanged({l.from(), l.to()});
+      graph.mergeMaps(graph.mapOf(l.to()), mapId);
+      newLinks.push_back(l);
+    }
+    stats.addStatistic(Statistics::kProximitySpace_paths, static_cast<float>(p.paths));
+    stats.addStatistic(Statistics::kProximitySpace_visual_paths_checked, static_cast<float>(p.visualChecked));
+    stats.addStatistic(Statistics::kProximitySpace_scan_paths_checked, static_cast<float>(p.scanChecked));
+    stats.addStatistic(Statistics::kProximitySpace_detections_added_visually, static_cast<float>(p.addedVisually));
+    stats.addStatistic(Statistics::kProximitySpace_detections_added_icp_multi, static_cast<float>(p.addedByScans));
+    for (const std::string& r : p.rejections) RTABMAP_DEBUG(r);
+  }
+
+  // --- optimisation of the local map, map -> odom ---
+  if (options.metric) {
+    if (!newLinks.empty() || !u.retrieved.empty()) {
+      const std::vector<Link> kept = optimizeLocalMap(newId, newLinks);
+      summary.rejectedLinks += static_cast<int>(newLinks.size() - kept.size());
+      for (const Link& l : kept) {
+        if (l.type() == Link::kGlobalClosure) {
+          ++summary.loopClosures;
+          stats.loopClosureId = l.to();
+          stats.loopClosureTransform = l.transform();
+        } else {
+          ++summary.proximityLinks;
+          stats.proximityDetectionId = l.to();
+        }
+      }
+    }
+    const Transform pose = graph.pose(newId);
+    if (!pose.isNull()) {
+      mapCorrection = pose * odom.inverse();
+      currentPose = pose;
+    }
+    if (grid) {
+      StageTimer t(stats, Statistics::kTimingMap_assembling);
+      const Signature* s = memory.signature(newId);
+      if (s && !s->sensorData().localGrid().isEmpty()) grid->addLocalGrid(newId, s->sensorData().localGrid());
+      grid->update(graph.posesOfGroup(mapId));
+    }
+  } else if (u.highest.accepted && !newLinks.empty()) {
+    ++summary.loopClosures;
+    stats.loopClosureId = newLinks.front().to();
+  }
+
+  // --- memory management: transfer when over the time or size budget ---
+  {
+    StageTimer t(stats, Statistics::kTimingMemory_cleanup);
+    const std::set<int> local = localImmunity(graph.pose(newId));
+    immune.insert(local.begin(), local.end());
+    stats.addStatistic(Statistics::kMemoryImmunized_locally, static_cast<float>(local.size()));
+    const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    detector->manageMemory(immune, elapsed, vocabularyAtStart, u);
+  }
+  summary.transferred += static_cast<int>(u.transferred.size());
+  summary.retrieved += static_cast<int>(u.retrieved.size());
+  const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  finishStatistics(u, newId, total);
+  return true;
+}
+
+bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance) {
+  const auto start = std::chrono::steady_clock::now();
+  memory::Memory& memory = detector->memory();
+  if (!localized && lastNodeId == 0 && summary.localizations == 0) {
+    // Before the first localisation the robot is assumed where the last session ended (or at
+    // the origin with RGBD/StartAtOrigin).
+    const Transform start0 = options.startAtOrigin || initialLocalizationPose.isNull() ? Transform::Identity()
+                                                                                       : initialLocalizationPose;
+    if (currentPose.isNull()) mapCorrection = start0 * odom.inverse();
+  }
+  if (localized && isStill(odom)) {
+    ++summary.skippedStill;
+    return false;
+  }
+  memory::LoopClosureUpdate u;
+  const size_t vocabularyAtStart = memory.vocabulary().size();
+  memory::AddResult added;
+  {
+    StageTimer t(stats, Statistics::kTimingMemory_update);
+    added = detector->addLocation(makeLocation(data, odom, covariance), u);
+  }
+  motionCovariance.setZero();
+  if (added.id == 0) return refuse("frame " + std::to_string(data.id()) + " has too few visual words");
+  const int tempId = added.id;
+  const Transform estimate = mapCorrection * odom;
+  graph.setPose(tempId, mapId, estimate);
+
+  // Localisations: a verified loop closure, else proximity links to the map near the estimate.
+  std::vector<Link> found;
+  detector->detect(tempId, u, true);
+  if (u.highest.accepted) {
+    if (std::optional<Link> l = verifyLoopClosure(tempId, u.highest.id, localized)) found.push_back(*l);
+  }
+  std::set<int> immune;
+  detector->retrieveNeighbors(u.highest.id, u, immune);
+  retrieveNearRobot(estimate, u, immune);
+  if (found.empty() && options.proximityBySpace) {
+    StageTimer t(stats, Statistics::kTimingProximity_by_space);
+    ProximityResult p = detectProximityBySpace(memory, tempId, ramPosesOfGroup(), options, *registration,
+                                               options.covOffDiagIgnored);
+    found = p.links;
+  }
+  lastNodeOdom = odom;
+  bool used = false;
+  for (const Link& l : found) {
+    const Transform there = graph.pose(l.to());
+    if (there.isNull()) continue;
+    const Transform pose = there * l.transform().inverse();
+    if (localized && options.maxLoopClosureDistance > 0.0f && pose.getDistance(estimate) > options.maxLoopClosureDistance) {
+      RTABMAP_INFO("localization on node " << l.to() << " rejected: it moves the robot by " << pose.getDistance(estimate)
+                                           << " m (" << Parameters::kRGBDMaxLoopClosureDistance() << ")");
+      continue;
+    }
+    mapCorrection = pose * odom.inverse();
+    localized = true;
+    used = true;
+    ++summary.localizations;
+    if (l.type() == Link::kGlobalClosure) {
+      stats.loopClosureId = l.to();
+    } else {
+      stats.proximityDetectionId = l.to();
+    }
+    break;
+  }
+  currentPose = mapCorrection * odom;
+  // The temporary node is forgotten: the map is not modified.
+  memory.removeLastLocation();
+  graph.erase(tempId);
+  detector->manageMemory(immune, 0.0, vocabularyAtStart, u);
+  const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  finishStatistics(u, 0, total);
+  return used;
+}
+
+void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs) {
+  const memory::Memory& memory = detector->memory();
+  stats.refImageId = nodeId;
+  stats.refImageMapId = nodeId ? graph.mapOf(nodeId) : -1;
+  stats.stamp = lastStamp;
+  stats.mapCorrection = mapCorrection;
+  stats.posterior = u.posterior;
+  stats.addStatistic(Statistics::kLoopHighest_hypothesis_id, static_cast<float>(u.highest.id));
+  stats.addStatistic(Statistics::kLoopHighest_hypothesis_value, u.highest.value);
+  stats.addStatistic(Statistics::kLoopAccepted_hypothesis_id, static_cast<float>(stats.loopClosureId));
+  stats.addStatistic(Statistics::kLoopMap_id, static_cast<float>(mapId));
+  stats.addStatistic(Statistics::kLoopLast_id, static_cast<float>(memory.lastLocationId()));
+  stats.addStatistic(Statistics::kLoopVisual_words, static_cast<float>(u.words));
+  stats.addStatistic(Statistics::kProximitySpace_last_detection_id, static_cast<float>(stats.proximityDetectionId));
+  stats.addStatistic(Statistics::kTimingLikelihood_computation, static_cast<float>(u.likelihoodMs));
+  stats.addStatistic(Statistics::kTimingPosterior_computation, static_cast<float>(u.posteriorMs));
+  stats.addStatistic(Statistics::kTimingHypotheses_creation, static_cast<float>(u.hypothesisMs));
+  stats.addStatistic(Statistics::kMemoryWorking_memory_size, static_cast<float>(memory.wm().size()));
+  stats.addStatistic(Statistics::kMemoryShort_time_memory_size, static_cast<float>(memory.stm().size()));
+  stats.addStatistic(Statistics::kMemorySignatures_retrieved, static_cast<float>(u.retrieved.size()));
+  stats.addStatistic(Statistics::kMemorySignatures_removed, static_cast<float>(u.transferred.size()));
+  stats.addStatistic(Statistics::kKeypointDictionary_size, static_cast<float>(memory.vocabulary().size()));
+  stats.addStatistic(Statistics::kTimingTotal, static_cast<float>(totalMs));
+  const Transform c = mapCorrection;
+  stats.addStatistic(Statistics::kLoopOdom_correction_norm, static_cast<float>(c.getNorm()));
+  stats.addStatistic(Statistics::kLoopOdom_correction_angle, static_cast<float>(c.getAngle() * 180.0 / M_PI));
+  summary.maxWmSize = std::max(summary.maxWmSize, static_cast<int>(memory.wm().size()));
+}
+
+}  // namespace rtabmap

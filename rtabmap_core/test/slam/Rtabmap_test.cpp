@@ -1,0 +1,167 @@
+// Rtabmap::process() on synthetic input: what it refuses and why, when it adds nodes, sessions,
+// labels, and what survives a restart on the same database.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "common/TestData.h"
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/slam/Rtabmap.h"
+
+namespace rtabmap {
+namespace {
+
+using Cov = Eigen::Matrix<double, 6, 6>;
+
+Cov smallCov() { return Cov::Identity() * 1e-4; }
+
+// A pose-only frame (no images, no scan): a node of the graph without appearance.
+SensorData frame(int id, double stamp) { return SensorData(LaserScan(), id, stamp); }
+
+Transform along(double x, double yaw = 0.0) { return Transform(x, 0, 0, 0, 0, yaw); }
+
+ParametersMap everyFrame() { return {{"Rtabmap/DetectionRate", "0"}}; }
+
+TEST(Rtabmap, RefusesBadOdometryWithAReason) {
+  Rtabmap slam;
+  slam.init(everyFrame(), "");
+  EXPECT_FALSE(slam.process(frame(1, 1.0), Transform(), smallCov()));
+  EXPECT_NE(slam.lastRejection().find("null"), std::string::npos) << slam.lastRejection();
+  EXPECT_FALSE(slam.process(frame(2, 2.0), Transform(NAN, 0, 0, 0, 0, 0), smallCov()));
+  EXPECT_NE(slam.lastRejection().find("finite"), std::string::npos) << slam.lastRejection();
+  EXPECT_FALSE(slam.process(frame(3, 3.0), along(1.0), Cov::Identity() * 9999.0));
+  EXPECT_NE(slam.lastRejection().find("lost"), std::string::npos) << slam.lastRejection();
+  EXPECT_EQ(slam.summary().nodesAdded, 0);
+  EXPECT_EQ(slam.summary().refused, 3);
+  // Odometry back: the map starts.
+  EXPECT_TRUE(slam.process(frame(4, 4.0), along(1.0), smallCov()));
+  EXPECT_TRUE(slam.lastRejection().empty());
+  EXPECT_EQ(slam.summary().nodesAdded, 1);
+}
+
+TEST(Rtabmap, PoseOnlyNodesMakeAGraphFollowingOdometry) {
+  Rtabmap slam;
+  slam.init(everyFrame(), "");
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(slam.process(frame(i + 1, i + 1.0), along(0.5 * i), smallCov()));
+  EXPECT_EQ(slam.summary().nodesAdded, 5);
+  const std::map<int, Transform> poses = slam.optimizedPoses();
+  ASSERT_EQ(poses.size(), 5u);
+  EXPECT_NEAR(poses.rbegin()->second.x(), 2.0, 1e-9);
+  EXPECT_TRUE(slam.mapCorrection().isIdentity(1e-9));
+  // Neighbour links carry the odometry motion.
+  int neighbors = 0;
+  for (const auto& [from, link] : slam.localLinks()) {
+    if (link.type() != Link::kNeighbor) continue;
+    ++neighbors;
+    EXPECT_NEAR(link.transform().x(), 0.5, 1e-9);
+  }
+  EXPECT_EQ(neighbors, 4);
+}
+
+TEST(Rtabmap, StillRobotAndRateAddNoNode) {
+  Rtabmap slam;
+  slam.init({{"Rtabmap/DetectionRate", "1"}}, "");
+  ASSERT_TRUE(slam.process(frame(1, 10.0), along(0.0), smallCov()));
+  // 0.1 s later: under the 1 Hz detection rate.
+  EXPECT_FALSE(slam.process(frame(2, 10.1), along(1.0), smallCov()));
+  EXPECT_EQ(slam.summary().skippedRate, 1);
+  // 1 s later but 1 cm away: the robot did not move (RGBD/LinearUpdate 0.1 m).
+  EXPECT_FALSE(slam.process(frame(3, 11.0), along(0.01), smallCov()));
+  EXPECT_EQ(slam.summary().skippedStill, 1);
+  // Turning in place counts as moving (RGBD/AngularUpdate 0.1 rad).
+  EXPECT_TRUE(slam.process(frame(4, 12.0), along(0.01, 0.5), smallCov()));
+  EXPECT_EQ(slam.summary().nodesAdded, 2);
+}
+
+TEST(Rtabmap, StampsGoingBackwardsAreRefusedUnlessOdometryRestarts) {
+  Rtabmap slam;
+  slam.init(everyFrame(), "");
+  ASSERT_TRUE(slam.process(frame(1, 10.0), along(0.0), smallCov()));
+  ASSERT_TRUE(slam.process(frame(2, 11.0), along(1.0), smallCov()));
+  EXPECT_FALSE(slam.process(frame(3, 5.0), along(2.0), smallCov()));
+  EXPECT_NE(slam.lastRejection().find("older"), std::string::npos) << slam.lastRejection();
+  const int firstMap = slam.mapId();
+  // A bag restarted with its odometry: identity pose and old stamps, a new map.
+  EXPECT_TRUE(slam.process(frame(4, 5.0), Transform::Identity(), smallCov()));
+  EXPECT_GT(slam.mapId(), firstMap);
+  EXPECT_EQ(slam.summary().mapsStarted, 2);
+}
+
+TEST(Rtabmap, OdometryResetStartsANewMapNotLinkedToTheOldOne) {
+  Rtabmap slam;
+  slam.init(everyFrame(), "");
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(slam.process(frame(i + 1, i + 1.0), along(0.5 * (i + 1)), smallCov()));
+  const int firstMap = slam.mapId();
+  ASSERT_TRUE(slam.process(frame(4, 4.0), Transform::Identity(), smallCov()));
+  ASSERT_TRUE(slam.process(frame(5, 5.0), along(0.5), smallCov()));
+  EXPECT_EQ(slam.mapId(), firstMap + 1);
+  // The current referential holds only the new map's nodes; no link joins the two maps.
+  EXPECT_EQ(slam.optimizedPoses().size(), 2u);
+  for (const auto& [from, link] : slam.localLinks()) {
+    EXPECT_FALSE(link.from() <= 3 && link.to() >= 4) << link.from() << "->" << link.to();
+  }
+  slam.triggerNewMap();
+  ASSERT_TRUE(slam.process(frame(6, 6.0), along(1.0), smallCov()));
+  EXPECT_EQ(slam.mapId(), firstMap + 2);
+  EXPECT_EQ(slam.optimizedPoses().size(), 1u);
+}
+
+TEST(Rtabmap, UnknownParameterNamesTheClosestKey) {
+  Rtabmap slam;
+  try {
+    slam.init({{"RGBD/LinearUpdat", "0.2"}}, "");
+    FAIL() << "an unknown key was accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("RGBD/LinearUpdate"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(slam.init({{"RGBD/LocalRadius", "-1"}}, ""), ParameterError);
+}
+
+TEST(Rtabmap, ForeignDatabaseIsRefusedAndLeftUntouched) {
+  test::TempDir dir("rtabmap_slam_foreign");
+  const std::string path = dir.file("notes.db");
+  {
+    std::ofstream out(path);
+    out << "not a database, the notes of another program\n";
+  }
+  const auto size = std::filesystem::file_size(path);
+  Rtabmap slam;
+  EXPECT_THROW(slam.init(everyFrame(), path), DatabaseError);
+  EXPECT_EQ(std::filesystem::file_size(path), size);
+  // Localization needs a map that exists.
+  EXPECT_THROW(slam.init({{"Mem/IncrementalMemory", "false"}}, dir.file("missing.db")), DatabaseError);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("missing.db")));
+}
+
+TEST(Rtabmap, SessionsLabelsAndWorkingMemorySurviveARestart) {
+  test::TempDir dir("rtabmap_slam_restart");
+  const std::string path = dir.file("rtabmap.db");
+  int firstMap = 0;
+  {
+    Rtabmap slam;
+    slam.init(everyFrame(), path);
+    for (int i = 0; i < 4; ++i) ASSERT_TRUE(slam.process(frame(i + 1, i + 1.0), along(0.5 * i), smallCov()));
+    firstMap = slam.mapId();
+    EXPECT_TRUE(slam.setLabel(2, "kitchen"));
+    EXPECT_FALSE(slam.setLabel(3, "kitchen")) << "a label names one node";
+    EXPECT_FALSE(slam.setLabel(999, "nowhere")) << "unknown node";
+    slam.close();
+  }
+  Rtabmap slam;
+  slam.init(everyFrame(), path);
+  EXPECT_GT(slam.mapId(), firstMap);
+  EXPECT_EQ(slam.nodeOfLabel("kitchen"), 2);
+  EXPECT_EQ(slam.nodeOfLabel("map" + std::to_string(firstMap)), 1) << "first node of a map is labelled";
+  // The previous session's nodes are back in Working Memory, candidates for loop closure.
+  const std::vector<int> wm = slam.workingMemory();
+  EXPECT_EQ(wm.size(), 4u);
+  // A new session does not link itself to the old map: its first node is in a new referential.
+  ASSERT_TRUE(slam.process(frame(10, 10.0), along(0.0), smallCov()));
+  EXPECT_EQ(slam.optimizedPoses().size(), 1u);
+  EXPECT_GT(slam.lastNodeId(), 4);
+}
+
+}  // namespace
+}  // namespace rtabmap

@@ -1,0 +1,130 @@
+#include "SimSlam.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "common/ToolRun.h"
+#include "rtabmap_core/eval/DatasetReader.h"
+#include "rtabmap_core/eval/TrajectoryError.h"
+
+namespace rtabmap::test {
+
+std::string simDataset(const std::string& scenario, std::string* why) {
+  // The simulator is deterministic (same options, same bytes): a dataset is made once per build
+  // tree and shared by the tests, which ctest runs as separate processes, maybe at once. Each
+  // writer works in its own folder and renames it into place; the first rename wins.
+  const std::string options = "--rate 2 --width 320 --height 240 --no-stereo --no-urg";
+  const std::filesystem::path cache = std::filesystem::path(RTABMAP_CORE_BINARY_DIR) / "test_data";
+  const std::filesystem::path final = cache / ("sim_" + scenario + "_r2_320");
+  if (std::filesystem::exists(final / "info.yaml") || std::filesystem::exists(final / "session1" / "info.yaml")) {
+    return final.string();
+  }
+  std::filesystem::create_directories(cache);
+  TempDir work("rtabmap_slam_sim");
+  const std::string out = work.file(scenario);
+  const ToolRun r = runTool("sim", "--scenario " + scenario + " --output " + out + " " + options + " --json", work);
+  if (r.exitCode != 0) {
+    if (why) *why = "rtabmap-sim failed: " + r.stderrText;
+    return "";
+  }
+  std::error_code ec;
+  std::filesystem::rename(out, final, ec);
+  if (ec && !std::filesystem::exists(final)) {
+    // Another file system: copy instead.
+    std::filesystem::copy(out, final, std::filesystem::copy_options::recursive, ec);
+    if (ec) {
+      if (why) *why = "cannot keep the dataset in " + final.string() + ": " + ec.message();
+      return "";
+    }
+  }
+  return final.string();
+}
+
+ParametersMap simSlamParameters() {
+  return {
+      {"Rtabmap/DetectionRate", "1"},
+      {"RGBD/CreateOccupancyGrid", "true"},
+      {"Grid/Sensor", "0"},
+      {"Reg/Strategy", "2"},
+      {"Reg/Force3DoF", "true"},
+      {"RGBD/ProximityPathMaxNeighbors", "5"},
+      {"RGBD/MaxLoopClosureDistance", "2"},
+      {"Icp/VoxelSize", "0.05"},
+      {"Icp/PointToPlane", "true"},
+      {"Icp/CorrespondenceRatio", "0.3"},
+      // Proximity guesses carry the odometry drift: correspondences are searched wider and
+      // the correction may be larger than between consecutive scans.
+      {"Icp/MaxCorrespondenceDistance", "0.3"},
+      {"Icp/Iterations", "50"},
+      {"Icp/MaxRotation", "0.5"},
+      {"Icp/MaxTranslation", "1"},
+  };
+}
+
+void runSimSlam(const std::string& folder, const ParametersMap& parameters, const std::string& database,
+                SimSlamRun& run) {
+  std::unique_ptr<DatasetReader> reader = openDatasetReader("sim", folder);
+  Rtabmap slam;
+  slam.init(parameters, database);
+  DatasetRecord record;
+  while (reader->next(record)) {
+    if (record.kind != DatasetRecord::Kind::kFrame) continue;
+    const SensorData& data = record.data;
+    if (!slam.process(data)) continue;
+    const int id = slam.statistics().refImageId;
+    if (id <= 0) continue;
+    run.odometry[id] = data.odomPose();
+    if (!data.groundTruth().isNull()) run.groundTruth[id] = data.groundTruth();
+  }
+  run.optimized = slam.optimizedPoses();
+  run.links = slam.allLinks();
+  run.lastMapId = slam.mapId();
+  const SlamSummary s = slam.summary();
+  run.summary.nodesAdded += s.nodesAdded;
+  run.summary.loopClosures += s.loopClosures;
+  run.summary.proximityLinks += s.proximityLinks;
+  run.summary.rejectedLinks += s.rejectedLinks;
+  run.summary.localizations += s.localizations;
+  run.summary.mapsStarted += s.mapsStarted;
+  run.refused += s.refused;
+  slam.close();
+}
+
+double nodeAte(const std::map<int, Transform>& poses, const std::map<int, Transform>& groundTruth) {
+  Trajectory gt, est;
+  for (const auto& [id, pose] : poses) {
+    auto g = groundTruth.find(id);
+    if (g == groundTruth.end()) continue;
+    gt.add(static_cast<double>(id), g->second);
+    est.add(static_cast<double>(id), pose);
+  }
+  AteOptions o;
+  o.maxTimeDifference = 0.1;
+  return computeAte(gt, est, o).translation.rmse;
+}
+
+double worstLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
+                      const std::set<Link::Type>& types, int* count, std::string* which) {
+  double worst = 0.0;
+  int n = 0;
+  for (const auto& [from, link] : links) {
+    if (!types.count(link.type())) continue;
+    auto a = groundTruth.find(link.from());
+    auto b = groundTruth.find(link.to());
+    if (a == groundTruth.end() || b == groundTruth.end()) continue;
+    const Transform truth = a->second.inverse() * b->second;
+    const double e = (truth.inverse() * link.transform()).getNorm();
+    if (e > worst && which) {
+      *which = link.typeName() + " " + std::to_string(link.from()) + "->" + std::to_string(link.to()) + ": " +
+               link.transform().prettyPrint() + ", truth " + truth.prettyPrint();
+    }
+    worst = std::max(worst, e);
+    ++n;
+  }
+  if (count) *count = n;
+  return worst;
+}
+
+}  // namespace rtabmap::test

@@ -1,0 +1,47 @@
+#pragma once
+// Test helpers of the SLAM tests: simulator datasets made once per test binary, and SLAM runs
+// over them that keep, per node, its optimised pose and its ground truth.
+#include <map>
+#include <string>
+
+#include "common/TestData.h"
+#include "rtabmap_core/geometry/Transform.h"
+#include "rtabmap_core/params/Parameters.h"
+#include "rtabmap_core/slam/Rtabmap.h"
+
+namespace rtabmap::test {
+
+// The folder of a simulated scenario (small images, 2 Hz, RGB-D + UTM laser), generated with
+// rtabmap-sim on first use and kept for the other tests of the binary. "" (and *why) if the
+// simulator failed.
+std::string simDataset(const std::string& scenario, std::string* why);
+
+struct SimSlamRun {
+  SlamSummary summary;
+  std::map<int, Transform> optimized;    // final optimised poses (current referential)
+  std::map<int, Transform> odometry;     // node id -> odometry pose at creation
+  std::map<int, Transform> groundTruth;  // node id -> ground truth
+  std::multimap<int, Link> links;        // every link of the map at the end
+  int lastMapId = 0;
+  int refused = 0;
+};
+
+// Runs Rtabmap over a sim dataset folder with its wheel odometry; appends to `run` (several
+// sessions on one database keep one SimSlamRun). Closes the map at the end.
+void runSimSlam(const std::string& folder, const ParametersMap& parameters, const std::string& database,
+                SimSlamRun& run);
+
+// Parameters of the sim tests: the robot of the simulator (RGB-D + laser, visual loop closure
+// refined by point-to-plane ICP, proximity by scans, 1 Hz, a 2 m bound on loop-closure
+// corrections as for a robot with decent wheel odometry: the simulator's materials repeat
+// every 4 m, so a corridor 4 or 8 m further on can look the same).
+ParametersMap simSlamParameters();
+
+// ATE RMSE (m) of `poses` against the ground truth of the same nodes, one rigid alignment.
+double nodeAte(const std::map<int, Transform>& poses, const std::map<int, Transform>& groundTruth);
+
+// Largest error (m) of the links of these types against the ground truth of their ends.
+double worstLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
+                      const std::set<Link::Type>& types, int* count = nullptr, std::string* which = nullptr);
+
+}  // namespace rtabmap::test

@@ -1,0 +1,113 @@
+#include "dataset/SlamStage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/eval/TrajectoryError.h"
+#include "rtabmap_core/maps/MapIO.h"
+
+namespace rtabmap::tools::dataset {
+namespace {
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t i = static_cast<size_t>(std::round(p * static_cast<double>(v.size() - 1)));
+  return v[std::min(i, v.size() - 1)];
+}
+
+}  // namespace
+
+SlamStage::SlamStage(const RunOptions& run, const SlamRunOptions& options) : run_(run), options_(options) {
+  if (options_.database.empty()) throw Error("SLAM needs --output DIR (the map is DIR/rtabmap.db)");
+  std::filesystem::create_directories(std::filesystem::path(options_.database).parent_path());
+  const bool keep = options_.continueDatabase || options_.localization;
+  if (!keep) {
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(options_.database + suffix);
+  }
+  ParametersMap parameters = run_.parameters;
+  if (options_.localization) parameters[Parameters::kMemIncrementalMemory()] = "false";
+  // A map for navigation is the point of a dataset run: local grids unless told otherwise.
+  parameters.emplace(Parameters::kRGBDCreateOccupancyGrid(), "true");
+  rtabmap_.init(parameters, options_.database);
+}
+
+void SlamStage::process(const FrameResult& frame, const SensorData& data) {
+  ++frames_;
+  if (!frame.groundTruth.isNull()) groundTruth_[frame.stamp] = frame.groundTruth;
+  if (frame.pose.isNull()) return;  // odometry lost: Rtabmap would refuse it anyway
+  const auto start = std::chrono::steady_clock::now();
+  const bool used = rtabmap_.process(data, frame.pose, frame.info.covariance);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  wallSeconds_ += ms / 1000.0;
+  if (!used) return;
+  updateMs_.push_back(ms);
+  const int id = rtabmap_.statistics().refImageId;
+  if (id > 0) nodeStamps_[id] = frame.stamp;
+}
+
+void SlamStage::finish() {
+  finalPoses_ = rtabmap_.optimizedPoses();
+  const SlamSummary s = rtabmap_.summary();
+  sessions_ = s.mapsStarted;
+  const GridMap grid = rtabmap_.gridMap();
+  rtabmap_.close();
+  const std::string dir = std::filesystem::path(options_.database).parent_path().string();
+  if (!options_.localization) {
+    Trajectory poses;
+    for (const auto& [id, pose] : finalPoses_) {
+      auto stamp = nodeStamps_.find(id);
+      if (stamp != nodeStamps_.end()) poses.add(stamp->second, pose);
+    }
+    writeTrajectory(dir + "/poses.tum", poses, TrajectoryFormat::kTum);
+  }
+  if (!grid.empty()) {
+    writeMapServer(grid, dir + "/grid.pgm", dir + "/grid.yaml");
+    writeGridPng(grid, dir + "/grid.png");
+  }
+}
+
+nlohmann::json SlamStage::toJson(double datasetSeconds) const {
+  const SlamSummary s = rtabmap_.summary();
+  nlohmann::json j;
+  j["frames"] = frames_;
+  j["nodes"] = s.nodesAdded;
+  j["sessions"] = sessions_;
+  j["loop_closures"] = s.loopClosures;
+  j["proximity_links"] = s.proximityLinks;
+  j["rejected_links"] = s.rejectedLinks;
+  j["localizations"] = s.localizations;
+  j["refused"] = s.refused;
+  j["transferred"] = s.transferred;
+  j["retrieved"] = s.retrieved;
+  j["slam_ms_median"] = percentile(updateMs_, 0.5);
+  j["slam_ms_p99"] = percentile(updateMs_, 0.99);
+  j["slam_ms_max"] = updateMs_.empty() ? 0.0 : *std::max_element(updateMs_.begin(), updateMs_.end());
+  j["max_wm_size"] = s.maxWmSize;
+  j["realtime_factor"] = wallSeconds_ > 0.0 ? datasetSeconds / wallSeconds_ : 0.0;
+  if (!groundTruth_.empty() && !options_.localization) {
+    Trajectory gt, est;
+    for (const auto& [stamp, pose] : groundTruth_) gt.add(stamp, pose);
+    for (const auto& [id, pose] : finalPoses_) {
+      auto stamp = nodeStamps_.find(id);
+      if (stamp != nodeStamps_.end()) est.add(stamp->second, pose);
+    }
+    try {
+      AteOptions ate;
+      ate.maxTimeDifference = 0.001;
+      const AteResult r = computeAte(gt, est, ate);
+      j["ate_rmse"] = r.translation.rmse;
+      j["ate_poses"] = r.pairs.size();
+    } catch (const Error& e) {
+      j["ate_error"] = e.what();
+    }
+  }
+  j["database"] = options_.database;
+  return j;
+}
+
+}  // namespace rtabmap::tools::dataset

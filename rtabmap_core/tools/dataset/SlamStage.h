@@ -1,0 +1,50 @@
+#pragma once
+// rtabmap-dataset's mapping stage: each frame after odometry goes through Rtabmap::process();
+// at the end the optimised trajectory, the grid and the figures of the run are written.
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dataset/DatasetRun.h"
+#include "rtabmap_core/slam/Rtabmap.h"
+
+namespace rtabmap::tools::dataset {
+
+struct SlamRunOptions {
+  bool enabled = false;        // --slam (implied by --continue and --localization)
+  bool continueDatabase = false;  // --continue: add a session to DIR/rtabmap.db
+  bool localization = false;      // --localization: localise against DIR/rtabmap.db
+  std::string database;           // DIR/rtabmap.db
+};
+
+class SlamStage {
+ public:
+  // Removes an existing database unless continuing or localising. Throws on bad parameters or
+  // an unusable database.
+  SlamStage(const RunOptions& run, const SlamRunOptions& options);
+  void process(const FrameResult& frame, const SensorData& data);
+  // Closes the map; writes DIR/poses.tum (optimised, node stamps) and DIR/grid.pgm + .yaml +
+  // .png when there is a grid.
+  void finish();
+  // frames, nodes, sessions, loop_closures, proximity_links, rejected_links, slam_ms_* ,
+  // max_wm_size, realtime_factor, ate_rmse (against the frames' ground truth).
+  nlohmann::json toJson(double datasetSeconds) const;
+  const Rtabmap& rtabmap() const { return rtabmap_; }
+
+ private:
+  RunOptions run_;
+  SlamRunOptions options_;
+  Rtabmap rtabmap_;
+  std::map<int, double> nodeStamps_;     // node id -> frame stamp
+  std::map<double, Transform> groundTruth_;  // frame stamp -> ground truth (base)
+  std::vector<double> updateMs_;
+  double wallSeconds_ = 0.0;
+  std::map<int, Transform> finalPoses_;
+  int sessions_ = 0;
+  int frames_ = 0;
+};
+
+}  // namespace rtabmap::tools::dataset
