@@ -69,6 +69,25 @@ std::multimap<int, Link> Rtabmap::Impl::ramLinks(const std::map<int, Transform>&
   return links;
 }
 
+// The graph was optimal before this update: started from its poses, the solver only has the new
+// links' corrections to spread, a few iterations instead of a chordal relaxation of the whole
+// local map each time. A large correction (a long loop, a merge of referentials) is where the
+// poses can trap it in a local minimum: then Optimizer/Init decides, chordal by default.
+OptimizerOptions Rtabmap::Impl::incrementalOptions(const std::map<int, Transform>& input,
+                                                   const std::vector<Link>& newLinks) const {
+  OptimizerOptions o = optimizer;
+  bool large = false;
+  for (const Link& l : newLinks) {
+    auto a = input.find(l.from());
+    auto b = input.find(l.to());
+    if (a == input.end() || b == input.end()) continue;
+    const Transform e = l.transform().inverse() * (a->second.inverse() * b->second);
+    large = large || e.getNorm() > 0.2 || std::fabs(e.getAngle()) > 0.1;
+  }
+  if (!large) o.initialization = GraphInitialization::kInputPoses;
+  return o;
+}
+
 std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<Link>& newLinks) {
   StageTimer timer(stats, Statistics::kTimingMap_optimization);
   const std::map<int, Transform> poses = ramPosesOfGroup();
@@ -87,7 +106,8 @@ std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<L
   // map -> odom absorbs the correction.
   const int root = options.optimizeFromGraphEnd ? newId : input.begin()->first;
   OptimizerSummary result;
-  const std::map<int, Transform> optimised = optimizeGraph(optimizer, input, inside, &result, root);
+  const std::map<int, Transform> optimised =
+      optimizeGraph(incrementalOptions(input, newLinks), input, inside, &result, root);
   if (!result.success) {
     RTABMAP_WARN("graph optimisation failed: " << result.why << "; the new links are kept, the poses not updated");
     return newLinks;

@@ -17,6 +17,7 @@
 #include "rtabmap_core/maps/OccupancyGrid.h"
 #include "rtabmap_core/memory/LoopClosureDetector.h"
 #include "rtabmap_core/optimizer/Optimizer.h"
+#include "rtabmap_core/slam/PathPlanner.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 #include "rtabmap_core/slam/RtabmapOptions.h"
 #include "rtabmap_core/slam/SessionGraph.h"
@@ -64,6 +65,9 @@ struct Rtabmap::Impl {
   std::unique_ptr<LinkRegistration> registration;
   std::unique_ptr<OccupancyGrid> grid;
   SessionGraph graph;
+  PathPlanner planner;
+  bool goalReached = false;
+  std::string goalFailure;
 
   // --- session state ---
   bool initialized = false;
@@ -122,8 +126,14 @@ struct Rtabmap::Impl {
   // Optimises the local map. With new links, drops them again when the result disagrees with
   // them (RGBD/OptimizeMaxError). Returns the links kept.
   std::vector<Link> optimizeLocalMap(int newId, const std::vector<Link>& newLinks);
+  OptimizerOptions incrementalOptions(const std::map<int, Transform>& input, const std::vector<Link>& newLinks) const;
   void retrieveNearRobot(const Transform& pose, memory::LoopClosureUpdate& u, std::set<int>& immune);
   std::set<int> localImmunity(const Transform& pose) const;
+
+  // RtabmapPlanning.cpp
+  bool setGoal(const PlanGoal& goal);
+  // Follows the plan this update: retrieval and immunity of the upcoming path nodes.
+  void followPlan(int currentId, memory::LoopClosureUpdate& u, std::set<int>& immune);
 };
 
 }  // namespace rtabmap

@@ -15,6 +15,7 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
   options = RtabmapOptions::fromParameters(p);
   detectorOptions = memory::LoopClosureDetectorOptions::fromParameters(p);
   optimizer = OptimizerOptions::fromParameters(p);
+  planner = PathPlanner(PlannerOptions::fromParameters(p));
   if (options.metric) registration = std::make_unique<LinkRegistration>(p);
   if (options.createOccupancyGrid) {
     gridOptions = LocalGridOptions::fromParameters(p);

@@ -59,6 +59,8 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
   if (!initialized) throw std::logic_error("Rtabmap::process: init() was not called");
   ++summary.updates;
   rejection.clear();
+  goalReached = false;
+  goalFailure.clear();
   if (!checkInput(data, odom, covariance)) return false;
 
   // Odometry reset (identity after motion, or a jump): a new map, as the original does.
@@ -212,6 +214,9 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     stats.loopClosureId = newLinks.front().to();
   }
 
+  // --- path following: upcoming path nodes come back from LTM and stay ---
+  if (options.metric) followPlan(newId, u, immune);
+
   // --- memory management: transfer when over the time or size budget ---
   {
     StageTimer t(stats, Statistics::kTimingMemory_cleanup);
@@ -293,6 +298,7 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
     break;
   }
   currentPose = mapCorrection * odom;
+  followPlan(0, u, immune);
   // The temporary node is forgotten: the map is not modified.
   memory.removeLastLocation();
   graph.erase(tempId);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace rtabmap::vocabulary {
 
@@ -46,6 +48,8 @@ float similarity(const std::multimap<int, int>& wordsA, const std::multimap<int,
 std::map<int, float> computeLikelihood(const Vocabulary& vocabulary, const std::multimap<int, int>& newWords,
                                        const std::unordered_map<int, int>& candidates, int totalLocations,
                                        bool tfIdf) {
+  // Scores accumulate in a table reserved for every candidate (no rehash however many share a
+  // word); the cost is the references of the new location's words.
   std::unordered_map<int, double> score;
   score.reserve(candidates.size());
   const auto counts = wordCounts(newWords);
@@ -66,12 +70,15 @@ std::map<int, float> computeLikelihood(const Vocabulary& vocabulary, const std::
       }
     }
   }
+  // Every candidate gets a value: sorted ids make each insertion into the map constant time.
+  std::vector<std::pair<int, int>> sorted(candidates.begin(), candidates.end());
+  std::sort(sorted.begin(), sorted.end());
   std::map<int, float> likelihood;
-  for (const auto& [location, n] : candidates) {
+  for (const auto& [location, n] : sorted) {
     auto s = score.find(location);
     double v = s == score.end() ? 0.0 : s->second;
     if (!tfIdf && v > 0.0) v /= std::max(newTotal, n);
-    likelihood.emplace(location, static_cast<float>(std::max(0.0, v)));
+    likelihood.emplace_hint(likelihood.end(), location, static_cast<float>(std::max(0.0, v)));
   }
   return likelihood;
 }

@@ -77,15 +77,20 @@ class FlannIndex : public Vocabulary::Index {
     cv::Mat q = toIndexRows(queries, expandBinary_, perByte_);
     if (!q.isContinuous()) q = q.clone();
     flann::Matrix<T> query(reinterpret_cast<T*>(q.data), q.rows, q.cols);
-    std::vector<std::vector<size_t>> indices;
-    std::vector<std::vector<typename Distance::ResultType>> dists;
-    index_->knnSearch(query, indices, dists, 2, search_);
+    // One batch search into flat result matrices (no per-query vectors). FLANN skips removed
+    // points itself; slots it could not fill keep the "none" marker.
+    constexpr size_t kNone = std::numeric_limits<size_t>::max();
+    std::vector<size_t> indices(static_cast<size_t>(q.rows) * 2, kNone);
+    std::vector<typename Distance::ResultType> dists(indices.size());
+    flann::Matrix<size_t> indexMatrix(indices.data(), q.rows, 2);
+    flann::Matrix<typename Distance::ResultType> distMatrix(dists.data(), q.rows, 2);
+    index_->knnSearch(query, indexMatrix, distMatrix, 2, search_);
     for (int r = 0; r < queries.rows; ++r) {
       int k = 0;
-      for (size_t j = 0; j < indices[r].size() && k < 2; ++j) {
-        const size_t point = indices[r][j];
-        if (point >= wordOfPoint_.size() || wordOfPoint_[point] == 0) continue;  // removed
-        float d = static_cast<float>(dists[r][j]);
+      for (size_t j = 0; j < 2; ++j) {
+        const size_t point = indices[r * 2 + j];
+        if (point >= wordOfPoint_.size() || wordOfPoint_[point] == 0) continue;  // none or removed
+        const float d = static_cast<float>(dists[r * 2 + j]);
         result[r][k++] = {wordOfPoint_[point], squared_ ? std::sqrt(std::max(0.f, d)) : d};
       }
     }

@@ -163,5 +163,45 @@ TEST(Rtabmap, SessionsLabelsAndWorkingMemorySurviveARestart) {
   EXPECT_GT(slam.lastNodeId(), 4);
 }
 
+TEST(Rtabmap, GoalsByIdLabelAndPoseAreFollowedUntilReached) {
+  Rtabmap slam;
+  slam.init(everyFrame(), "");
+  // A 5 m corridor, one node every 0.5 m, then back to the start.
+  int stamp = 0;
+  auto next = [&stamp] {
+    ++stamp;
+    return frame(stamp, stamp);
+  };
+  for (int i = 0; i <= 10; ++i) ASSERT_TRUE(slam.process(next(), along(0.5 * i), smallCov()));
+  ASSERT_TRUE(slam.setLabel(6, "printer"));
+  EXPECT_FALSE(slam.setGoal(999));
+  EXPECT_NE(slam.lastRejection().find("no path"), std::string::npos) << slam.lastRejection();
+  EXPECT_FALSE(slam.setGoal(std::string("kitchen")));
+  EXPECT_NE(slam.lastRejection().find("kitchen"), std::string::npos);
+
+  ASSERT_TRUE(slam.setGoal(std::string("printer"))) << slam.lastRejection();
+  const auto path = slam.goalPath();
+  ASSERT_FALSE(path.empty());
+  EXPECT_EQ(path.front().first, slam.lastNodeId());
+  EXPECT_EQ(path.back().first, 6);
+  // The robot drives back: the current goal is the farthest path node within RGBD/LocalRadius.
+  ASSERT_TRUE(slam.process(next(), Transform(4.5, 0, 0, 0, 0, M_PI), smallCov()));
+  EXPECT_EQ(slam.statistics().currentGoalId, 6);
+  EXPECT_FALSE(slam.goalReached());
+  bool reached = false;
+  for (double x = 4.0; x >= 2.4 && !reached; x -= 0.5) {
+    ASSERT_TRUE(slam.process(next(), Transform(x, 0, 0, 0, 0, M_PI), smallCov()));
+    reached = slam.goalReached();
+  }
+  EXPECT_TRUE(reached) << "node 6 is at 2.5 m, RGBD/GoalReachedRadius 0.5 m";
+  EXPECT_TRUE(slam.goalPath().empty()) << "a reached goal ends the plan";
+
+  // A pose goal goes to the node nearest to it.
+  ASSERT_TRUE(slam.setGoal(Transform(0.6, 0.1, 0, 0, 0, 0)));
+  EXPECT_EQ(slam.goalPath().back().first, 2);
+  slam.cancelGoal();
+  EXPECT_TRUE(slam.goalPath().empty());
+}
+
 }  // namespace
 }  // namespace rtabmap

@@ -96,6 +96,22 @@ TEST(Vocabulary, DescriptorsOfOneImageShareNewWords) {
   EXPECT_EQ(v.word(ids[0])->references.at(2), 2);
 }
 
+// Same for binary descriptors, where the distance between new words of one image is the
+// Hamming distance: a near copy (3 bits flipped) of a new word joins it, a far one does not.
+TEST(Vocabulary, BinaryDescriptorsOfOneImageShareNewWords) {
+  Vocabulary v;
+  v.quantize(randomBinary(50, 32, 3), 1);
+  cv::Mat image = randomBinary(3, 32, 4);
+  image.row(0).copyTo(image.row(1));
+  image.at<uchar>(1, 0) ^= 0x01;
+  image.at<uchar>(1, 7) ^= 0x30;
+  auto ids = v.quantize(image, 2);
+  EXPECT_GT(ids[0], 50);
+  EXPECT_EQ(ids[1], ids[0]);
+  EXPECT_GT(ids[2], ids[0]);
+  EXPECT_EQ(v.word(ids[0])->references.at(2), 2);
+}
+
 // Incremental insertion must answer queries like an index built over the same words: with
 // unlimited checks the kd-trees are exact, so both agree with brute force.
 TEST(Vocabulary, IncrementalIndexAnswersLikeARebuiltOne) {
@@ -125,6 +141,32 @@ TEST(Vocabulary, IncrementalIndexAnswersLikeARebuiltOne) {
     const int expected = bruteForceWord(a, queries.row(i), incremental.nndrRatio);
     EXPECT_EQ(fa[i], expected) << "query " << i;
     EXPECT_EQ(fb[i], expected) << "query " << i;
+    matched += expected != 0;
+  }
+  EXPECT_GE(matched, 100);
+}
+
+// The default index for binary descriptors (kd-trees over their bits), incremental, against
+// brute-force Hamming search: with unlimited checks it is exact, and distances are Hamming
+// counts, so the ratio test gives the same words. Queries are words with a few bits flipped
+// (real matches) and random descriptors (new words).
+TEST(Vocabulary, IncrementalBinaryIndexAnswersLikeBruteForce) {
+  VocabularyOptions o;
+  o.searchChecks = 1 << 30;
+  Vocabulary v(o);
+  for (int loc = 1; loc <= 8; ++loc) v.quantize(randomBinary(60, 32, 200 + loc), loc);
+  ASSERT_GT(v.summary().indexBuilds, 1);
+  cv::Mat queries = randomBinary(200, 32, 998);
+  cv::RNG rng(7);
+  for (int i = 0; i < 100; ++i) {
+    v.word(1 + i * 4)->descriptor.copyTo(queries.row(i));
+    for (int f = 0; f < 12; ++f) queries.at<uchar>(i, rng.uniform(0, 32)) ^= static_cast<uchar>(1 << rng.uniform(0, 8));
+  }
+  const auto found = v.findWords(queries);
+  int matched = 0;
+  for (int i = 0; i < queries.rows; ++i) {
+    const int expected = bruteForceWord(v, queries.row(i), o.nndrRatio);
+    EXPECT_EQ(found[i], expected) << "query " << i;
     matched += expected != 0;
   }
   EXPECT_GE(matched, 100);

@@ -44,10 +44,15 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
   const bool used = rtabmap_.process(data, frame.pose, frame.info.covariance);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   wallSeconds_ += ms / 1000.0;
-  if (!used) return;
-  updateMs_.push_back(ms);
-  const int id = rtabmap_.statistics().refImageId;
-  if (id > 0) nodeStamps_[id] = frame.stamp;
+  if (used) {
+    updateMs_.push_back(ms);
+    const int id = rtabmap_.statistics().refImageId;
+    if (id > 0 && !nodeStamps_.count(id)) {
+      nodeStamps_[id] = frame.stamp;
+      nodeOdometry_[id] = frame.pose;
+    }
+  }
+  if (rtabmap_.lastNodeId() > 0) frameRefs_.push_back({frame.stamp, rtabmap_.lastNodeId(), frame.pose});
 }
 
 void SlamStage::finish() {
@@ -64,6 +69,14 @@ void SlamStage::finish() {
       if (stamp != nodeStamps_.end()) poses.add(stamp->second, pose);
     }
     writeTrajectory(dir + "/poses.tum", poses, TrajectoryFormat::kTum);
+    Trajectory frames;
+    for (const FrameRef& f : frameRefs_) {
+      auto node = finalPoses_.find(f.node);
+      auto odom = nodeOdometry_.find(f.node);
+      if (node == finalPoses_.end() || odom == nodeOdometry_.end()) continue;
+      frames.add(f.stamp, node->second * (odom->second.inverse() * f.odometry));
+    }
+    writeTrajectory(dir + "/frames.tum", frames, TrajectoryFormat::kTum);
   }
   if (!grid.empty()) {
     writeMapServer(grid, dir + "/grid.pgm", dir + "/grid.yaml");

@@ -26,8 +26,10 @@ class SlamStage {
   // an unusable database.
   SlamStage(const RunOptions& run, const SlamRunOptions& options);
   void process(const FrameResult& frame, const SensorData& data);
-  // Closes the map; writes DIR/poses.tum (optimised, node stamps) and DIR/grid.pgm + .yaml +
-  // .png when there is a grid.
+  // Closes the map; writes DIR/poses.tum (optimised nodes, node stamps), DIR/frames.tum (every
+  // frame: its last node's optimised pose composed with the odometry since that node, for
+  // per-scan metrics such as the Radish relations) and DIR/grid.pgm + .yaml + .png when there
+  // is a grid.
   void finish();
   // frames, nodes, sessions, loop_closures, proximity_links, rejected_links, slam_ms_* ,
   // max_wm_size, realtime_factor, ate_rmse (against the frames' ground truth).
@@ -39,6 +41,13 @@ class SlamStage {
   SlamRunOptions options_;
   Rtabmap rtabmap_;
   std::map<int, double> nodeStamps_;     // node id -> frame stamp
+  std::map<int, Transform> nodeOdometry_;  // node id -> odometry pose when created
+  struct FrameRef {
+    double stamp;
+    int node;          // last node of the map when the frame was processed
+    Transform odometry;
+  };
+  std::vector<FrameRef> frameRefs_;
   std::map<double, Transform> groundTruth_;  // frame stamp -> ground truth (base)
   std::vector<double> updateMs_;
   double wallSeconds_ = 0.0;

@@ -125,6 +125,22 @@ class Rtabmap {
   // The node with this label, 0 if none.
   int nodeOfLabel(const std::string& label) const;
 
+  // Path planning (SPLAM paper, 3.3.5): a goal as a node id, a label or a pose of the current
+  // referential; the topological path is planned at once (Dijkstra over the whole map, LTM
+  // included) and followed by the next updates: the farthest path node of the local map within
+  // RGBD/LocalRadius is the current metric goal (statistics().currentGoalId), upcoming path
+  // nodes are retrieved from LTM and immune from transfer. False, with the reason in
+  // lastRejection(), when there is no path (unknown node or label, another referential).
+  bool setGoal(int nodeId);
+  bool setGoal(const std::string& label);
+  bool setGoal(const Transform& pose);
+  void cancelGoal();
+  // The planned path (node id, pose when planned); empty without an active goal.
+  std::vector<std::pair<int, Transform>> goalPath() const;
+  // Set by the update that reached the goal / gave up on it (the plan is then over).
+  bool goalReached() const;
+  const std::string& goalFailure() const;
+
   // The global occupancy grid (RGBD/CreateOccupancyGrid), assembled from the local grids with
   // the optimised poses of the current referential. Empty without grids.
   GridMap gridMap() const;

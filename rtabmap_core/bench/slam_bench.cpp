@@ -1,0 +1,187 @@
+// bench-slam_bench: the SLAM pipeline end to end (the SLAM issue's "How it is shown"), through
+// rtabmap-dataset:
+//  - 2D lidar + wheel odometry on the Radish logs (no camera: proximity detection closes the
+//    loops): ACES relation error of the optimised trajectory (goal: mean translation <= 0.035 m,
+//    Cartographer 0.0375) against the raw wheel odometry's; the Intel grid kept as PNG;
+//  - RGB-D on 7-Scenes with F2M odometry: ATE with loop closures vs odometry only;
+//  - the simulator's `long` scenario (RGB-D + laser, 1 Hz, memory management) with
+//    Rtabmap/TimeThr 500 ms, with Rtabmap/MemoryThr 300, and unbounded: slam_ms_p99 (goal
+//    <= 1.2 x the threshold), max WM, loop closures, realtime factor.
+// Datasets: ../shared/data (radish, rgbd_7scenes) found beside the repository or given with
+// --data; simulated data cached in the work folder (default build/bench_output/slam).
+//
+// Usage: bench-slam_bench [--work DIR] [--data DIR] [--long-duration S] [--no-long] [--no-rgbd]
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+namespace {
+
+std::string toolsDir;
+
+Json runJson(const std::string& tool, const std::string& arguments) {
+  const std::string command = (fs::path(toolsDir) / tool).string() + " " + arguments + " --json 2>/dev/null";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) throw std::runtime_error("cannot run " + command);
+  std::string out, last;
+  char buffer[4096];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) out.append(buffer, n);
+  const int status = ::pclose(pipe);
+  if (status != 0) throw std::runtime_error(command + " failed (status " + std::to_string(status) + ")");
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    if (!line.empty()) last = line;
+  }
+  return Json::parse(last);
+}
+
+// ../shared/data beside an ancestor of the executable.
+fs::path findData() {
+  for (fs::path p = fs::absolute(toolsDir); !p.empty() && p != p.root_path(); p = p.parent_path()) {
+    if (fs::is_directory(p / "shared" / "data")) return p / "shared" / "data";
+    if (fs::is_directory(p / ".." / "shared" / "data")) return p / ".." / "shared" / "data";
+  }
+  return {};
+}
+
+// The 2D lidar robot: config/lidar2d.ini of the repository (ICP for everything, 3 DoF,
+// neighbour links refined on scans, proximity on merged scans anywhere in the local map: a loop
+// of the Intel lab is hundreds of links long; every scan offered, nodes every 0.1 m / 0.1 rad).
+std::string lidar2dConfig() {
+  for (fs::path p = fs::absolute(toolsDir); !p.empty() && p != p.root_path(); p = p.parent_path()) {
+    if (fs::exists(p / "config" / "lidar2d.ini")) return "--config " + (p / "config" / "lidar2d.ini").string();
+    if (fs::exists(p / "src" / "rtabmap_ros" / "config" / "lidar2d.ini")) {
+      return "--config " + (p / "src" / "rtabmap_ros" / "config" / "lidar2d.ini").string();
+    }
+  }
+  throw std::runtime_error("config/lidar2d.ini not found above " + toolsDir);
+}
+
+// The simulator's robot (see test/slam/SimSlam.cpp).
+const char* kSimRobot =
+    "--Rtabmap/DetectionRate 1 --Grid/Sensor 0 --Reg/Strategy 2 --Reg/Force3DoF true "
+    "--RGBD/ProximityPathMaxNeighbors 5 --RGBD/MaxLoopClosureDistance 2 --Icp/VoxelSize 0.05 --Icp/PointToPlane true "
+    "--Icp/CorrespondenceRatio 0.3 --Icp/MaxCorrespondenceDistance 0.3 --Icp/Iterations 50 --Icp/MaxRotation 0.5 "
+    "--Icp/MaxTranslation 1";
+
+void lidar(const fs::path& data, const fs::path& work, Json& result) {
+  for (const std::string log : {"intel", "aces"}) {
+    const fs::path clf = data / "radish" / (log + ".clf.bz2");
+    if (!fs::exists(clf)) {
+      std::cout << log << ": skipped (" << clf << " absent)" << std::endl;
+      continue;
+    }
+    const fs::path out = work / log;
+    const Json s = runJson("rtabmap-dataset", "--format carmen --odom wheel --slam --output " + out.string() + " " +
+                                                  lidar2dConfig() + " " + clf.string());
+    std::cout << log << ": " << s["frames"] << " scans, " << s["nodes"] << " nodes, " << s["proximity_links"]
+              << " proximity links, " << s["rejected_links"] << " rejected; update median " << s["slam_ms_median"]
+              << " ms, p99 " << s["slam_ms_p99"] << " ms, max " << s["slam_ms_max"] << " ms; realtime x"
+              << s["realtime_factor"] << "; grid " << (out / "grid.png").string() << std::endl;
+    Json entry = {{"slam", s}};
+    const fs::path relations = data / "radish" / (log + ".relations");
+    if (fs::exists(relations)) {
+      const Json slam = runJson("rtabmap-eval", "relations --relations " + relations.string() + " --est " +
+                                                    (out / "frames.tum").string());
+      const Json odom = runJson("rtabmap-eval", "relations --relations " + relations.string() + " --est " +
+                                                    (out / "odom.tum").string());
+      const double t = slam["translation"]["mean"], r = slam["rotation_deg"]["mean"];
+      std::cout << "  " << log << " relations (" << slam["used"] << " used): SLAM " << t << " m / " << r
+                << " deg, wheel odometry " << odom["translation"]["mean"] << " m / " << odom["rotation_deg"]["mean"]
+                << " deg; goal mean translation <= 0.035 m (Cartographer 0.0375): " << (t <= 0.035 ? "met" : "NOT met")
+                << std::endl;
+      entry["relations_slam"] = slam;
+      entry["relations_odom"] = odom;
+    }
+    result[log] = entry;
+  }
+}
+
+void rgbd(const fs::path& data, const fs::path& work, Json& result) {
+  const fs::path scenes = data / "rgbd_7scenes";
+  if (!fs::exists(scenes)) {
+    std::cout << "7-Scenes: skipped (" << scenes << " absent)" << std::endl;
+    return;
+  }
+  const Json s = runJson("rtabmap-dataset", "--format 7scenes --odom f2m --slam --output " + (work / "7scenes").string() +
+                                                " --Rtabmap/DetectionRate 2 --RGBD/CreateOccupancyGrid false " +
+                                                scenes.string());
+  std::cout << "7-Scenes RGB-D (F2M): " << s["frames"] << " frames, " << s["nodes"] << " nodes, " << s["loop_closures"]
+            << " loop closures, " << s["proximity_links"] << " proximity links; ATE odometry " << s["odom_ate_rmse"]
+            << " m, SLAM " << s["ate_rmse"] << " m (goal: SLAM <= odometry: "
+            << (s["ate_rmse"].get<double>() <= s["odom_ate_rmse"].get<double>() ? "met" : "NOT met") << ")" << std::endl;
+  result["7scenes"] = s;
+}
+
+void longRun(const fs::path& work, const std::string& duration, Json& result) {
+  const fs::path sim = work / "sim_long";
+  if (!fs::exists(sim / "info.yaml")) {
+    std::cout << "simulating long into " << sim << " ..." << std::endl;
+    runJson("rtabmap-sim", "--scenario long --rate 1 --width 320 --height 240 --no-stereo --no-urg --overwrite " +
+                               (duration.empty() ? std::string() : "--duration " + duration) + " --output " + sim.string());
+  }
+  struct Budget {
+    const char* name;
+    std::string params;
+    double limitMs;
+  };
+  for (const Budget& b : {Budget{"time_thr_500", "--Rtabmap/TimeThr 500", 500.0},
+                          Budget{"memory_thr_300", "--Rtabmap/MemoryThr 300", 0.0},
+                          Budget{"unbounded", "", 0.0}}) {
+    const Json s = runJson("rtabmap-dataset", "--format sim --odom wheel --slam --output " +
+                                                  (work / (std::string("long_") + b.name)).string() + " " + kSimRobot +
+                                                  " " + b.params + " " + sim.string());
+    std::cout << "long, " << b.name << ": " << s["frames"] << " frames, " << s["nodes"] << " nodes; update median "
+              << s["slam_ms_median"] << " ms, p99 " << s["slam_ms_p99"] << " ms, max " << s["slam_ms_max"]
+              << " ms; max WM " << s["max_wm_size"] << "; loop closures " << s["loop_closures"] << ", proximity "
+              << s["proximity_links"] << "; transferred " << s["transferred"] << ", retrieved " << s["retrieved"]
+              << "; realtime x" << s["realtime_factor"] << "; ATE " << s.value("ate_rmse", -1.0) << " m";
+    if (b.limitMs > 0) std::cout << " (goal p99 <= " << 1.2 * b.limitMs << " ms: " << (s["slam_ms_p99"].get<double>() <= 1.2 * b.limitMs ? "met" : "NOT met") << ")";
+    std::cout << std::endl;
+    result[std::string("long_") + b.name] = s;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  toolsDir = fs::path(argv[0]).parent_path().string();
+  fs::path work = fs::path(toolsDir) / ".." / "bench_output" / "slam";
+  fs::path data;
+  std::string longDuration;
+  bool runLong = true, runRgbd = true;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--work") && i + 1 < argc) work = argv[++i];
+    else if (!std::strcmp(argv[i], "--data") && i + 1 < argc) data = argv[++i];
+    else if (!std::strcmp(argv[i], "--long-duration") && i + 1 < argc) longDuration = argv[++i];
+    else if (!std::strcmp(argv[i], "--no-long")) runLong = false;
+    else if (!std::strcmp(argv[i], "--no-rgbd")) runRgbd = false;
+  }
+  if (data.empty()) data = findData();
+  fs::create_directories(work);
+  Json result = {{"bench", "slam"}};
+  try {
+    if (data.empty()) {
+      std::cout << "../shared/data not found: the Radish and 7-Scenes parts are skipped (--data DIR)" << std::endl;
+    } else {
+      lidar(data, work, result);
+      if (runRgbd) rgbd(data, work, result);
+    }
+    if (runLong) longRun(work, longDuration, result);
+  } catch (const std::exception& e) {
+    std::cerr << "bench-slam_bench: " << e.what() << std::endl;
+    return 1;
+  }
+  std::cout << result.dump() << std::endl;
+  return 0;
+}

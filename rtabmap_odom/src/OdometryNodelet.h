@@ -1,0 +1,124 @@
+#pragma once
+// What rgbd_odometry, stereo_odometry and icp_odometry share: parameters, the core odometry,
+// the motion guess from tf, publishing (odom, tf, odom_info, odom_local_map, odom_last_frame),
+// lost handling and the services. Each nodelet only says which topics it synchronises and how
+// a synchronised set becomes a core frame.
+//
+// Parameters (classic rtabmap_ros names):
+//   frame_id (base_link)            robot base frame: the odometry pose is the pose of this frame
+//   odom_frame_id (odom)            fixed frame of the odometry
+//   publish_tf (true)               publish odom_frame_id -> frame_id (or -> guess_frame_id)
+//   guess_frame_id ("")             fixed frame of another odometry (wheels) in tf: its motion of
+//                                   frame_id since the previous frame is the motion guess, and
+//                                   the tf published is odom_frame_id -> guess_frame_id
+//   wait_for_transform_duration (0.2)  s to wait for a tf (sensor mounting, guess)
+//   publish_null_when_lost (true)   when lost, publish odom with a null pose and 9999 covariance
+//   expected_update_rate (0)        Hz; warn when odometry updates slower than 80 % of it
+//   max_update_rate (0)             Hz; process at most this rate of frames (data stamps)
+//   subscribe_*, approx_sync, approx_sync_max_interval, queue_size, rgbd_cameras: the topics
+//   Group/Name                      core parameters (Odom/Strategy, Vis/MinInliers, Icp/...)
+// Topics out: odom (nav_msgs/Odometry), odom_info (rtabmap_ros/OdomInfo), odom_local_map and
+// odom_last_frame (sensor_msgs/PointCloud2, odometry frame), tf.
+// Services: reset_odom, pause_odom, resume_odom (std_srvs/Empty), reset_odom_to_pose
+// (rtabmap_ros/ResetPose).
+#include <nav_msgs/Odometry.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <rtabmap_ros/ResetPose.h>
+#include <std_srvs/Empty.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rtabmap_core/odometry/Odometry.h"
+#include "rtabmap_odom/OdometryOutputs.h"
+#include "rtabmap_sync/DataSubscriber.h"
+#include "rtabmap_sync/LogThrottle.h"
+
+namespace rtabmap_ros {
+
+class OdometryNodelet : public nodelet::Nodelet {
+ public:
+  ~OdometryNodelet() override;
+
+ protected:
+  // lidar: S2M / S2S instead of F2M / F2F. Log lines start with the nodelet's name.
+  explicit OdometryNodelet(bool lidar);
+
+  // Topics before the private subscribe_* parameters override them.
+  virtual rtabmap_sync::SubscribeOptions defaultSubscribeOptions() const = 0;
+  // The nodelet's own private parameters (read before the odometry is made; may adjust the
+  // core parameters) and their names (for the unknown-parameter warnings).
+  virtual void readParameters(ros::NodeHandle& /*pnh*/, rtabmap::ParametersMap& /*core*/) {}
+  virtual std::vector<std::string> parameterNames() const { return {}; }
+  // The core frame of a synchronised set, with the sensors' local transforms (sensorPose());
+  // nullopt and *error (naming the topic and the problem) on bad input or a missing tf.
+  virtual std::optional<rtabmap::SensorData> makeFrame(const rtabmap_sync::SyncedData& d, std::string* error) = 0;
+  // The frame's points in the base frame, for odom_last_frame.
+  virtual rtabmap::LaserScan frameCloud(const rtabmap::SensorData& frame) const = 0;
+
+  // The pose of sensorFrame in frame_id at `stamp` (the sensor's mounting), waiting up to
+  // wait_for_transform_duration; null with *error naming the frames otherwise.
+  rtabmap::Transform sensorPose(const std::string& sensorFrame, const ros::Time& stamp, std::string* error) const;
+
+ private:
+  void onInit() final;
+  void readNodeParameters(ros::NodeHandle& pnh);
+  rtabmap::ParametersMap readCoreParameters(ros::NodeHandle& pnh);
+  // tf, publishers, services and the update-rate watch.
+  void advertise(ros::NodeHandle& nh);
+  void createOdometry(const rtabmap::ParametersMap& parameters);
+  void onData(const rtabmap_sync::SyncedData& d);
+  // The wheel-odometry motion of frame_id since the previous frame (null: none or no tf), and
+  // the pose of frame_id in guess_frame_id now (for the tf correction).
+  rtabmap::Transform guessMotion(const ros::Time& stamp, rtabmap::Transform* guessPose);
+  void publish(const rtabmap::SensorData& frame, const rtabmap::Transform& pose, const rtabmap::OdometryInfo& info,
+               const ros::Time& stamp, const rtabmap::Transform& guessPose);
+  // odom -> frame_id, or odom -> guess_frame_id with a guess (see guessFrameCorrection).
+  void publishTf(const rtabmap::Transform& pose, const rtabmap::Transform& guessPose, const std_msgs::Header& header);
+  // Pose with covariance, and the twist of the motion since the previous frame.
+  nav_msgs::Odometry odomMessage(const rtabmap::Transform& pose, const rtabmap::OdometryInfo& info,
+                                 const std_msgs::Header& header) const;
+  void publishClouds(const rtabmap::SensorData& frame, const rtabmap::Transform& pose, const std_msgs::Header& header);
+  void reportLost(const rtabmap::OdometryInfo& info, const ros::Time& stamp);
+  void resetTo(const rtabmap::Transform& pose);
+  bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onResetToPose(rtabmap_ros::ResetPose::Request& req, rtabmap_ros::ResetPose::Response&);
+  bool onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onResume(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  void onRateWatch(const ros::WallTimerEvent&);
+
+  const bool lidar_;
+  std::string frameId_ = "base_link";
+  std::string odomFrameId_ = "odom";
+  std::string guessFrameId_;
+  bool publishTf_ = true;
+  bool publishNullWhenLost_ = true;
+  double waitForTransform_ = 0.2;
+  double expectedUpdateRate_ = 0.0;
+
+  std::mutex mutex_;  // odometry state: data callbacks vs services
+  std::unique_ptr<rtabmap::Odometry> odometry_;
+  bool paused_ = false;
+  ros::Time previousStamp_;  // stamp of the previous processed frame (for the guess)
+  rtabmap_odom::UpdateRateLimiter limiter_;
+  int updatesSinceWatch_ = 0;
+  ros::WallTime lastWatch_;
+
+  std::unique_ptr<tf2_ros::Buffer> tfBuffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tfListener_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tfBroadcaster_;
+  ros::Publisher odomPub_, odomInfoPub_, localMapPub_, lastFramePub_;
+  std::vector<ros::ServiceServer> services_;
+  ros::WallTimer rateWatch_;
+  rtabmap_sync::LogThrottle errors_;
+  rtabmap_sync::DataSubscriber subscriber_;  // last: its callbacks stop before the rest goes
+};
+
+}  // namespace rtabmap_ros

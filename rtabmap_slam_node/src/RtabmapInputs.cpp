@@ -1,0 +1,115 @@
+// rtabmap nodelet: what a synchronised set becomes for the core: the odometry pose of the
+// robot (odom topic or tf) with the covariance of the motion, and the frame (camera images
+// and/or laser scan placed on the robot through tf). Interface: RtabmapNodelet.h.
+#include "RtabmapNodelet.h"
+
+#include "rtabmap_conversions/LaserScanConversions.h"
+#include "rtabmap_conversions/OdometryConversions.h"
+#include "rtabmap_conversions/PointCloudConversions.h"
+#include "rtabmap_conversions/RGBDImageConversions.h"
+#include "rtabmap_conversions/TfLookup.h"
+#include "rtabmap_sync/FrameAssembly.h"
+
+namespace rtabmap_ros {
+
+rtabmap::Transform RtabmapNodelet::sensorPose(const std::string& sensorFrame, const ros::Time& stamp,
+                                              std::string* error) const {
+  if (sensorFrame.empty()) {
+    if (error) *error = "the message has no frame_id";
+    return rtabmap::Transform();
+  }
+  return rtabmap_conversions::lookupTransform(*tfBuffer_, frameId_, sensorFrame, stamp, waitForTransform_, error);
+}
+
+bool RtabmapNodelet::odometryOf(const rtabmap_sync::SyncedData& d, rtabmap::Transform* pose,
+                                rtabmap_slam_node::Covariance6* cov, std::string* error) {
+  if (!d.odom) {
+    *pose = rtabmap_conversions::lookupTransform(*tfBuffer_, odomFrameId_, frameId_, d.stamp, waitForTransform_, error);
+    *cov = rtabmap_slam_node::tfOdometryCovariance(odomTfLinearVariance_, odomTfAngularVariance_);
+    return !pose->isNull();
+  }
+  std::string why;
+  std::optional<rtabmap_conversions::OdometryReading> r = rtabmap_conversions::odometryFromMsg(*d.odom, &why);
+  if (!r) {
+    *error = "odom: " + why;
+    return false;
+  }
+  if (r->lost()) {
+    *error = "odom: odometry is lost (null pose or 9999 covariance)";
+    previousOdomCovariance_.reset();
+    return false;
+  }
+  if (!r->childFrameId.empty() && r->childFrameId != frameId_) {
+    // The odometry is of another frame than the robot's base: bring it to frame_id.
+    const rtabmap::Transform local = sensorPose(r->childFrameId, d.odom->header.stamp, error);
+    if (local.isNull()) return false;
+    r->pose = r->pose * local;
+  }
+  *pose = r->pose;
+  *cov = rtabmap_slam_node::motionCovariance(r->covariance, previousOdomCovariance_ ? &*previousOdomCovariance_ : nullptr,
+                                             odomCovarianceCumulative_);
+  previousOdomCovariance_ = r->covariance;
+  return true;
+}
+
+std::optional<rtabmap::LaserScan> RtabmapNodelet::makeScan(const rtabmap_sync::SyncedData& d,
+                                                           std::string* error) const {
+  const std_msgs::Header& header = d.scan ? d.scan->header : d.scanCloud->header;
+  const char* topic = d.scan ? "scan" : "scan_cloud";
+  const rtabmap::Transform local = sensorPose(header.frame_id, header.stamp, error);
+  if (local.isNull()) return std::nullopt;
+  std::string why;
+  std::optional<rtabmap::LaserScan> scan = d.scan ? rtabmap_conversions::laserScanFromMsg(*d.scan, local, &why)
+                                                  : rtabmap_conversions::laserScanFromCloudMsg(*d.scanCloud, local, &why);
+  if (!scan) *error = std::string(topic) + ": " + why;
+  return scan;
+}
+
+std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync::SyncedData& d,
+                                                             std::string* error) const {
+  std::optional<rtabmap::SensorData> frame;
+  if (d.rgb && d.depth && d.rgbCameraInfo) {
+    frame = rtabmap_sync::rgbdFrame(*d.rgb, *d.depth, *d.rgbCameraInfo, {}, error);
+    if (!frame) return std::nullopt;
+    const rtabmap::Transform local = sensorPose(d.rgb->header.frame_id, d.rgb->header.stamp, error);
+    if (local.isNull()) return std::nullopt;
+    std::vector<rtabmap::CameraModel> models = frame->cameraModels();
+    for (rtabmap::CameraModel& m : models) m.setLocalTransform(local);
+    frame->setRGBDImage(frame->imageRaw(), frame->depthOrRightRaw(), models);
+  } else if (d.left && d.right && d.leftCameraInfo && d.rightCameraInfo) {
+    frame = rtabmap_sync::stereoFrame(*d.left, *d.right, *d.leftCameraInfo, *d.rightCameraInfo, error);
+    if (!frame) return std::nullopt;
+    const rtabmap::Transform local = sensorPose(d.left->header.frame_id, d.left->header.stamp, error);
+    if (local.isNull()) return std::nullopt;
+    rtabmap::StereoCameraModel model = frame->stereoCameraModels().front();
+    model.setLocalTransform(local);
+    frame->setStereoImage(frame->imageRaw(), frame->depthOrRightRaw(), model);
+  } else if (d.rgb) {
+    *error = "a monocular camera (subscribe_rgb) is not supported by the SLAM node: it needs depth or stereo";
+    return std::nullopt;
+  } else if (d.rgbdImages.size() == 1) {
+    const rtabmap_ros::RGBDImage& msg = *d.rgbdImages.front();
+    const rtabmap::Transform local = sensorPose(msg.header.frame_id, msg.header.stamp, error);
+    if (local.isNull()) return std::nullopt;
+    std::string why;
+    frame = rtabmap_conversions::rgbdImageFromMsg(msg, local, &why);
+    if (!frame) {
+      *error = "rgbd_image: " + why;
+      return std::nullopt;
+    }
+  } else if (!d.rgbdImages.empty() || d.rgbdImagesMsg) {
+    *error = "several RGB-D cameras are not supported yet by the SLAM node (rgbd_cameras must be 1)";
+    return std::nullopt;
+  } else {
+    frame = rtabmap::SensorData();
+  }
+  if (d.scan || d.scanCloud) {
+    std::optional<rtabmap::LaserScan> scan = makeScan(d, error);
+    if (!scan) return std::nullopt;
+    frame->setLaserScan(*scan);
+  }
+  frame->setStamp(d.stamp.toSec());
+  return frame;
+}
+
+}  // namespace rtabmap_ros

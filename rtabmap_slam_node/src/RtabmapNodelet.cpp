@@ -1,0 +1,310 @@
+// rtabmap nodelet: parameters, the core's life cycle, publishing and the map -> odom timer. Inputs
+// are in RtabmapInputs.cpp, services in RtabmapServices.cpp. Interface: RtabmapNodelet.h.
+#include "RtabmapNodelet.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <rtabmap_ros/Info.h>
+#include <rtabmap_ros/MapGraph.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+#include "rtabmap_conversions/GraphConversions.h"
+#include "rtabmap_conversions/InfoConversions.h"
+#include "rtabmap_conversions/TransformConversions.h"
+#include "rtabmap_odom/NodeParameters.h"
+
+namespace rtabmap_ros {
+
+namespace {
+
+// The node's own private parameters (the others without '/' are warned as unknown).
+const std::vector<std::string> kNodeParameters = {
+    "frame_id", "odom_frame_id", "map_frame_id", "database_path", "config_path", "publish_tf", "tf_delay",
+    "tf_tolerance", "wait_for_transform_duration", "odom_tf_linear_variance", "odom_tf_angular_variance",
+    "odom_covariance_cumulative", "subscribe_depth", "subscribe_rgb", "subscribe_rgbd", "subscribe_stereo",
+    "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom", "subscribe_odom_info", "subscribe_user_data",
+    "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size"};
+
+std::optional<std::string> asText(XmlRpc::XmlRpcValue& v) {
+  std::ostringstream out;
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean: return bool(v) ? "true" : "false";
+    case XmlRpc::XmlRpcValue::TypeInt: return std::to_string(int(v));
+    case XmlRpc::XmlRpcValue::TypeDouble: out.precision(9); out << double(v); return out.str();
+    case XmlRpc::XmlRpcValue::TypeString: return std::string(v);
+    default: return std::nullopt;
+  }
+}
+
+// The node's private parameters as text, names relative to its namespace ("Reg/Strategy").
+std::map<std::string, std::string> privateParameters(const ros::NodeHandle& pnh) {
+  std::map<std::string, std::string> out;
+  std::vector<std::string> names;
+  pnh.getParamNames(names);
+  const std::string prefix = pnh.getNamespace() + "/";
+  for (const std::string& full : names) {
+    if (full.compare(0, prefix.size(), prefix) != 0) continue;
+    XmlRpc::XmlRpcValue value;
+    if (!pnh.getParam(full, value)) continue;
+    if (std::optional<std::string> text = asText(value)) out[full.substr(prefix.size())] = *text;
+  }
+  return out;
+}
+
+// A log line's throttling key: its text without digits (stamps and counts change, the problem not).
+std::string throttleKey(const std::string& text) {
+  std::string key;
+  for (char c : text) {
+    if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
+  }
+  return key;
+}
+
+}  // namespace
+
+RtabmapNodelet::~RtabmapNodelet() {
+  tfTimer_.stop();
+  std::lock_guard<std::mutex> lock(mutex_);
+  stopCore();  // everything in RAM goes to the database
+}
+
+void RtabmapNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  readNodeParameters(pnh);
+  parameters_ = readCoreParameters(pnh);
+  applyArguments(rtabmap_slam_node::parseNodeArguments(getMyArgv()));
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool mapping = !parameters_.count("Mem/IncrementalMemory") ||
+                         rtabmap::Parameters::getBool(parameters_, "Mem/IncrementalMemory");
+    parameters_.erase("Mem/IncrementalMemory");  // the mode is mapping_, switched by services
+    startCore(mapping);
+  }
+  advertise(nh);
+  subscribe(nh, pnh);
+}
+
+void RtabmapNodelet::applyArguments(const rtabmap_slam_node::NodeArguments& args) {
+  for (const std::string& a : args.unknown) {
+    NODELET_WARN("%s: unknown argument \"%s\" (known: -d, --delete_db_on_start).", getName().c_str(), a.c_str());
+  }
+  if (!args.deleteDbOnStart || databasePath_.empty()) return;
+  if (std::remove(databasePath_.c_str()) == 0) {
+    NODELET_INFO("%s: deleted %s (--delete_db_on_start).", getName().c_str(), databasePath_.c_str());
+  } else if (errno != ENOENT) {
+    NODELET_ERROR("%s: --delete_db_on_start: cannot delete %s: %s", getName().c_str(), databasePath_.c_str(),
+                  std::strerror(errno));
+  }
+}
+
+void RtabmapNodelet::subscribe(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+  // rgb/image + depth/image by default, unless another camera mode is asked for alone.
+  rtabmap_sync::SubscribeOptions defaults;
+  bool rgbd = false, stereo = false, rgb = false;
+  pnh.param("subscribe_rgbd", rgbd, rgbd);
+  pnh.param("subscribe_stereo", stereo, stereo);
+  pnh.param("subscribe_rgb", rgb, rgb);
+  defaults.subscribeDepth = !(rgbd || stereo || rgb);
+  const rtabmap_sync::SubscribeOptions options = rtabmap_sync::readSubscribeOptions(pnh, defaults);
+  if (options.subscribeRgb) {
+    NODELET_ERROR("%s: subscribe_rgb (monocular) is not supported: the SLAM node needs depth or stereo.",
+                  getName().c_str());
+  }
+  std::string error;
+  if (!subscriber_.setup(nh, getName(), options, [this](const rtabmap_sync::SyncedData& d) { onData(d); }, &error)) {
+    NODELET_FATAL("%s: %s", getName().c_str(), error.c_str());
+    return;
+  }
+  NODELET_INFO("%s: %s -> %s -> %s, odometry from %s, database \"%s\"", getName().c_str(), mapFrameId_.c_str(),
+               odomFrameId_.c_str(), frameId_.c_str(), options.subscribeOdom ? "the odom topic" : "tf",
+               databasePath_.c_str());
+}
+
+void RtabmapNodelet::readNodeParameters(ros::NodeHandle& pnh) {
+  pnh.param("frame_id", frameId_, frameId_);
+  pnh.param("odom_frame_id", odomFrameId_, odomFrameId_);
+  pnh.param("map_frame_id", mapFrameId_, mapFrameId_);
+  pnh.param("database_path", databasePath_, databasePath_);
+  databasePath_ = rtabmap_slam_node::expandHome(databasePath_);
+  pnh.param("publish_tf", publishTf_, publishTf_);
+  pnh.param("tf_delay", tfDelay_, tfDelay_);
+  pnh.param("tf_tolerance", tfTolerance_, tfTolerance_);
+  pnh.param("wait_for_transform_duration", waitForTransform_, waitForTransform_);
+  pnh.param("odom_tf_linear_variance", odomTfLinearVariance_, odomTfLinearVariance_);
+  pnh.param("odom_tf_angular_variance", odomTfAngularVariance_, odomTfAngularVariance_);
+  pnh.param("odom_covariance_cumulative", odomCovarianceCumulative_, odomCovarianceCumulative_);
+  if (!(tfDelay_ > 0.0)) {
+    NODELET_WARN("%s: tf_delay must be > 0 (got %g); using 0.05 s.", getName().c_str(), tfDelay_);
+    tfDelay_ = 0.05;
+  }
+  if (!(odomTfLinearVariance_ > 0.0) || !(odomTfAngularVariance_ > 0.0)) {
+    NODELET_WARN("%s: odom_tf_linear_variance and odom_tf_angular_variance must be > 0; using 0.001.",
+                 getName().c_str());
+    odomTfLinearVariance_ = odomTfAngularVariance_ = 0.001;
+  }
+}
+
+rtabmap::ParametersMap RtabmapNodelet::readCoreParameters(ros::NodeHandle& pnh) {
+  rtabmap::ParametersMap parameters;
+  std::string configPath;
+  pnh.param("config_path", configPath, configPath);
+  configPath = rtabmap_slam_node::expandHome(configPath);
+  if (!configPath.empty()) {
+    try {
+      parameters = rtabmap::Parameters::readIni(configPath);
+      NODELET_INFO("%s: %zu core parameters from %s", getName().c_str(), parameters.size(), configPath.c_str());
+    } catch (const std::exception& e) {
+      NODELET_ERROR("%s: config_path: %s; the file is ignored.", getName().c_str(), e.what());
+    }
+  }
+  const std::map<std::string, std::string> raw = privateParameters(pnh);
+  rtabmap_odom::CoreParameters core = rtabmap_odom::coreParametersFromPrivate(raw);
+  std::vector<std::string> warnings = rtabmap_odom::unknownNodeParameters(raw, kNodeParameters);
+  warnings.insert(warnings.end(), core.warnings.begin(), core.warnings.end());
+  for (const std::string& w : warnings) NODELET_WARN("%s: %s", getName().c_str(), w.c_str());
+  for (const auto& [key, value] : core.parameters) {
+    NODELET_INFO("%s: %s = %s", getName().c_str(), key.c_str(), value.c_str());
+    parameters[key] = value;  // private parameters override the INI file
+  }
+  return parameters;
+}
+
+void RtabmapNodelet::advertise(ros::NodeHandle& nh) {
+  tfBuffer_ = std::make_unique<tf2_ros::Buffer>(ros::Duration(30.0));
+  tfListener_ = std::make_unique<tf2_ros::TransformListener>(*tfBuffer_);
+  tfBroadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+  infoPub_ = nh.advertise<rtabmap_ros::Info>("info", 10);
+  mapGraphPub_ = nh.advertise<rtabmap_ros::MapGraph>("mapGraph", 1);
+  gridMapPub_ = nh.advertise<nav_msgs::OccupancyGrid>("grid_map", 1, true);
+  localizationPosePub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("localization_pose", 10);
+  services_.push_back(nh.advertiseService("reset", &RtabmapNodelet::onReset, this));
+  services_.push_back(nh.advertiseService("pause", &RtabmapNodelet::onPause, this));
+  services_.push_back(nh.advertiseService("resume", &RtabmapNodelet::onResume, this));
+  services_.push_back(nh.advertiseService("trigger_new_map", &RtabmapNodelet::onTriggerNewMap, this));
+  services_.push_back(nh.advertiseService("backup", &RtabmapNodelet::onBackup, this));
+  services_.push_back(nh.advertiseService("set_mode_localization", &RtabmapNodelet::onSetModeLocalization, this));
+  services_.push_back(nh.advertiseService("set_mode_mapping", &RtabmapNodelet::onSetModeMapping, this));
+  services_.push_back(nh.advertiseService("get_map", &RtabmapNodelet::onGetMap, this));
+  services_.push_back(nh.advertiseService("set_label", &RtabmapNodelet::onSetLabel, this));
+  services_.push_back(nh.advertiseService("list_labels", &RtabmapNodelet::onListLabels, this));
+  if (publishTf_) tfTimer_ = nh.createWallTimer(ros::WallDuration(tfDelay_), &RtabmapNodelet::onTfTimer, this);
+}
+
+bool RtabmapNodelet::startCore(bool mapping) {
+  rtabmap::ParametersMap parameters = parameters_;
+  parameters["Mem/IncrementalMemory"] = mapping ? "true" : "false";
+  auto core = std::make_unique<rtabmap::Rtabmap>();
+  try {
+    core->init(parameters, databasePath_);
+  } catch (const std::exception& e) {
+    NODELET_ERROR("%s: cannot start SLAM on \"%s\" (%s mode): %s", getName().c_str(), databasePath_.c_str(),
+                  mapping ? "mapping" : "localization", e.what());
+    core_.reset();
+    return false;
+  }
+  core_ = std::move(core);
+  mapping_ = mapping;
+  previousOdomCovariance_.reset();
+  NODELET_INFO("%s: SLAM started in %s mode on \"%s\"", getName().c_str(), mapping ? "mapping" : "localization",
+               databasePath_.c_str());
+  return true;
+}
+
+void RtabmapNodelet::stopCore() {
+  if (!core_) return;
+  try {
+    core_->close();
+  } catch (const std::exception& e) {
+    NODELET_ERROR("%s: closing the database: %s", getName().c_str(), e.what());
+  }
+  core_.reset();
+}
+
+void RtabmapNodelet::onData(const rtabmap_sync::SyncedData& d) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (paused_ || !core_) return;
+  std::string error;
+  rtabmap::Transform odomPose;
+  rtabmap_slam_node::Covariance6 covariance;
+  std::optional<rtabmap::SensorData> frame;
+  if (odometryOf(d, &odomPose, &covariance, &error)) frame = makeFrame(d, &error);
+  if (!frame) {
+    if (warnings_.due(throttleKey(error))) {
+      NODELET_WARN("%s: %s; data at %.6f ignored.", getName().c_str(), error.c_str(), d.stamp.toSec());
+    }
+    return;
+  }
+  const bool used = core_->process(*frame, odomPose, covariance);
+  if (!core_->lastRejection().empty()) {
+    if (warnings_.due(throttleKey(core_->lastRejection()))) {
+      NODELET_WARN("%s: data at %.6f refused: %s", getName().c_str(), d.stamp.toSec(),
+                   core_->lastRejection().c_str());
+    }
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> tfLock(tfMutex_);
+    mapToOdom_ = core_->mapCorrection();
+  }
+  if (used) publishUpdate(d.stamp);
+}
+
+void RtabmapNodelet::publishUpdate(const ros::Time& stamp) {
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.frame_id = mapFrameId_;
+  if (infoPub_.getNumSubscribers() > 0) infoPub_.publish(rtabmap_conversions::statisticsToMsg(core_->statistics(), header));
+  if (mapGraphPub_.getNumSubscribers() > 0) {
+    mapGraphPub_.publish(rtabmap_conversions::mapGraphToMsg(core_->optimizedPoses(), core_->allLinks(),
+                                                            core_->mapCorrection(), header));
+  }
+  if (gridMapPub_.getNumSubscribers() > 0) publishGrid(stamp);
+  if (!mapping_ && localizationPosePub_.getNumSubscribers() > 0 && core_->statistics().loopClosureId +
+                                                                           core_->statistics().proximityDetectionId > 0) {
+    // Localised on the map by this update: where the robot is in the map.
+    geometry_msgs::PoseWithCovarianceStamped pose;
+    pose.header = header;
+    pose.pose.pose = rtabmap_conversions::transformToPoseMsg(core_->currentPose());
+    localizationPosePub_.publish(pose);
+  }
+}
+
+void RtabmapNodelet::publishGrid(const ros::Time& stamp) {
+  const rtabmap::GridMap grid = core_->gridMap();
+  if (grid.empty()) return;
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.frame_id = mapFrameId_;
+  gridMapPub_.publish(rtabmap_slam_node::gridMapToMsg(grid, header));
+}
+
+void RtabmapNodelet::onTfTimer(const ros::WallTimerEvent&) {
+  const ros::Time now = ros::Time::now();
+  if (now.isZero()) return;  // simulated time not started yet
+  geometry_msgs::TransformStamped t;
+  // Stamped ahead so lookups at data stamps a little after now still find map -> odom.
+  t.header.stamp = now + ros::Duration(tfTolerance_);
+  t.header.frame_id = mapFrameId_;
+  t.child_frame_id = odomFrameId_;
+  {
+    std::lock_guard<std::mutex> lock(tfMutex_);
+    // A stopped simulated clock (bag paused or over) would repeat the stamp: tf listeners
+    // reject repeated data with a warning each time, and there is nothing new to say.
+    if (t.header.stamp == lastTfStamp_) return;
+    lastTfStamp_ = t.header.stamp;
+    t.transform = rtabmap_conversions::transformToMsg(mapToOdom_);
+  }
+  tfBroadcaster_->sendTransform(t);
+}
+
+}  // namespace rtabmap_ros
+
+PLUGINLIB_EXPORT_CLASS(rtabmap_ros::RtabmapNodelet, nodelet::Nodelet)
