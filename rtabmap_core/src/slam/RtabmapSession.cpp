@@ -1,5 +1,6 @@
 // Rtabmap sessions: opening a map (new or existing: multi-session, IROS 2014), the Working
 // Memory it starts with, new maps, closing.
+#include <algorithm>
 #include <filesystem>
 
 #include "RtabmapImpl.h"
@@ -132,15 +133,19 @@ void Rtabmap::Impl::close() {
     memory::Memory& memory = detector->memory();
     memory.saveAll();
     // The Working Memory this session ends with is where the next one starts.
+    // Kept with the newest node in RAM: the database's last node once everything is saved,
+    // where the next session looks for it.
     db::StoredStatistics last;
-    last.nodeId = memory.lastLocationId();
     for (int id : memory.stm()) last.wmState.push_back(id);
     for (const auto& [id, age] : memory.wm()) {
       (void)age;
       last.wmState.push_back(id);
     }
     last.data = stats.data();
-    if (memory.inRam(last.nodeId)) db->saveStatistics(last);
+    if (!last.wmState.empty()) {
+      last.nodeId = *std::max_element(last.wmState.begin(), last.wmState.end());
+      db->saveStatistics(last);
+    }
   }
   detector.reset();
   if (db) {

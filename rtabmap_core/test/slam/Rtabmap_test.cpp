@@ -2,6 +2,7 @@
 // labels, and what survives a restart on the same database.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -161,6 +162,32 @@ TEST(Rtabmap, SessionsLabelsAndWorkingMemorySurviveARestart) {
   ASSERT_TRUE(slam.process(frame(10, 10.0), along(0.0), smallCov()));
   EXPECT_EQ(slam.optimizedPoses().size(), 1u);
   EXPECT_GT(slam.lastNodeId(), 4);
+}
+
+TEST(Rtabmap, NextSessionStartsWithTheWorkingMemoryTheLastOneClosedWith) {
+  test::TempDir dir("rtabmap_slam_wm");
+  const std::string path = dir.file("rtabmap.db");
+  std::vector<int> closedWith;
+  {
+    Rtabmap slam;
+    slam.init({{"Rtabmap/DetectionRate", "0"}, {"Rtabmap/MemoryThr", "3"}, {"Mem/STMSize", "2"}}, path);
+    for (int i = 0; i < 12; ++i) ASSERT_TRUE(slam.process(frame(i + 1, i + 1.0), along(0.5 * i), smallCov()));
+    // The last frame: the robot did not move; nothing is added.
+    EXPECT_FALSE(slam.process(frame(13, 13.0), along(5.52), smallCov()));
+    closedWith = slam.workingMemory();
+    ASSERT_LT(closedWith.size(), 12u) << "memory management kept WM small";
+    slam.close();
+  }
+  Rtabmap slam;
+  slam.init(everyFrame(), path);
+  std::vector<int> wm = slam.workingMemory();
+  std::sort(wm.begin(), wm.end());
+  std::sort(closedWith.begin(), closedWith.end());
+  EXPECT_EQ(wm, closedWith);
+  Rtabmap all;
+  slam.close();
+  all.init({{"Rtabmap/DetectionRate", "0"}, {"Mem/InitWMWithAllNodes", "true"}}, path);
+  EXPECT_EQ(all.workingMemory().size(), 12u);
 }
 
 TEST(Rtabmap, GoalsByIdLabelAndPoseAreFollowedUntilReached) {
