@@ -111,12 +111,13 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
   if (still) {
     // The robot stayed: the previous node was rehearsed (weight) if it looked the same; the
     // frame adds nothing to the map.
-    if (!added.merged) memory.removeLastLocation();
     ++summary.skippedStill;
-    return added.merged;
-  }
-  if (!options.metric && added.merged) {
-    stats.refImageId = added.id;
+    if (!added.merged) {
+      memory.removeLastLocation();
+      return false;
+    }
+    finishStatistics(u, added.id, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    return true;
   }
   const int newId = added.id;
   const bool firstOfMap = lastNodeId == 0;

@@ -74,6 +74,7 @@ TEST(Rtabmap, StillRobotAndRateAddNoNode) {
   // Turning in place counts as moving (RGBD/AngularUpdate 0.1 rad).
   EXPECT_TRUE(slam.process(frame(4, 12.0), along(0.01, 0.5), smallCov()));
   EXPECT_EQ(slam.summary().nodesAdded, 2);
+  EXPECT_EQ(slam.statistics().refImageId, slam.lastNodeId());
 }
 
 TEST(Rtabmap, StampsGoingBackwardsAreRefusedUnlessOdometryRestarts) {
