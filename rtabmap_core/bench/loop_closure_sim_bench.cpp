@@ -14,6 +14,8 @@
 // Usage: bench-loop_closure_sim_bench [--work DIR] [--long-duration S] [--no-long]
 #include <nlohmann/json.hpp>
 
+#include "RunTool.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -34,21 +36,7 @@ std::string toolsDir;
 
 // Runs a tool with --json and returns its last stdout line parsed; throws on failure.
 Json runJson(const std::string& tool, const std::string& arguments) {
-  // --json last: rtabmap-eval takes its sub-command first.
-  const std::string command = (fs::path(toolsDir) / tool).string() + " " + arguments + " --json 2>/dev/null";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) throw std::runtime_error("cannot run " + command);
-  std::string out, last;
-  char buffer[4096];
-  size_t n;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) out.append(buffer, n);
-  const int status = ::pclose(pipe);
-  if (status != 0) throw std::runtime_error(command + " failed (status " + std::to_string(status) + ")");
-  std::istringstream lines(out);
-  for (std::string line; std::getline(lines, line);) {
-    if (!line.empty()) last = line;
-  }
-  return Json::parse(last);
+  return rtabmap::bench::runToolJson(toolsDir, tool, arguments);
 }
 
 // Simulated images only (no stereo, no lasers): what appearance-based loop closure needs.

@@ -13,6 +13,8 @@
 // Usage: bench-slam_bench [--work DIR] [--data DIR] [--long-duration S] [--no-long] [--no-rgbd]
 #include <nlohmann/json.hpp>
 
+#include "RunTool.h"
+
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -29,20 +31,7 @@ namespace {
 std::string toolsDir;
 
 Json runJson(const std::string& tool, const std::string& arguments) {
-  const std::string command = (fs::path(toolsDir) / tool).string() + " " + arguments + " --json 2>/dev/null";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) throw std::runtime_error("cannot run " + command);
-  std::string out, last;
-  char buffer[4096];
-  size_t n;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) out.append(buffer, n);
-  const int status = ::pclose(pipe);
-  if (status != 0) throw std::runtime_error(command + " failed (status " + std::to_string(status) + ")");
-  std::istringstream lines(out);
-  for (std::string line; std::getline(lines, line);) {
-    if (!line.empty()) last = line;
-  }
-  return Json::parse(last);
+  return rtabmap::bench::runToolJson(toolsDir, tool, arguments);
 }
 
 // ../shared/data beside an ancestor of the executable.

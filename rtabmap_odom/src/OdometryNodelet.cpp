@@ -17,6 +17,7 @@
 #include "rtabmap_core/odometry/OdometryF2M.h"
 #include "rtabmap_core/odometry/OdometryS2M.h"
 #include "rtabmap_odom/NodeParameters.h"
+#include "rtabmap_odom/PrivateParameters.h"
 
 namespace rtabmap_ros {
 
@@ -29,47 +30,6 @@ const std::vector<std::string> kCommonParameters = {
     "subscribe_rgbd", "subscribe_stereo", "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom_info",
     "subscribe_user_data", "subscribe_odom", "rgbd_cameras", "approx_sync", "approx_sync_max_interval",
     "queue_size"};
-
-// An XmlRpc value as the text the core's parameter registry parses.
-std::optional<std::string> asText(XmlRpc::XmlRpcValue& v) {
-  std::ostringstream out;
-  switch (v.getType()) {
-    case XmlRpc::XmlRpcValue::TypeBoolean: return bool(v) ? "true" : "false";
-    case XmlRpc::XmlRpcValue::TypeInt: return std::to_string(int(v));
-    case XmlRpc::XmlRpcValue::TypeDouble: out.precision(9); out << double(v); return out.str();
-    case XmlRpc::XmlRpcValue::TypeString: return std::string(v);
-    default: return std::nullopt;
-  }
-}
-
-// The node's private parameters, names relative to its namespace ("Odom/Strategy").
-std::map<std::string, std::string> privateParameters(const ros::NodeHandle& pnh, std::vector<std::string>* odd) {
-  std::map<std::string, std::string> out;
-  std::vector<std::string> names;
-  pnh.getParamNames(names);
-  const std::string prefix = pnh.getNamespace() + "/";
-  for (const std::string& full : names) {
-    if (full.compare(0, prefix.size(), prefix) != 0) continue;
-    XmlRpc::XmlRpcValue value;
-    if (!pnh.getParam(full, value)) continue;
-    if (std::optional<std::string> text = asText(value)) {
-      out[full.substr(prefix.size())] = *text;
-    } else {
-      odd->push_back(full.substr(prefix.size()));
-    }
-  }
-  return out;
-}
-
-// The throttling key of a log line: its text without the numbers (stamps, counts), so a stream
-// of the same problem logs once per period while a different problem logs at once.
-std::string throttleKey(const std::string& text) {
-  std::string key;
-  for (char c : text) {
-    if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
-  }
-  return key;
-}
 
 rtabmap::Odometry::Type odometryType(const rtabmap::ParametersMap& parameters, bool lidar) {
   const bool frameToFrame =
@@ -142,7 +102,7 @@ void OdometryNodelet::advertise(ros::NodeHandle& nh) {
 
 rtabmap::ParametersMap OdometryNodelet::readCoreParameters(ros::NodeHandle& pnh) {
   std::vector<std::string> odd;
-  const std::map<std::string, std::string> raw = privateParameters(pnh, &odd);
+  const std::map<std::string, std::string> raw = rtabmap_odom::privateParameters(pnh, &odd);
   for (const std::string& name : odd) {
     NODELET_WARN("%s: parameter \"%s\" ignored: not a bool, number or string.", getName().c_str(), name.c_str());
   }
@@ -203,7 +163,7 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
   std::string error;
   std::optional<rtabmap::SensorData> frame = makeFrame(d, &error);
   if (!frame) {
-    if (errors_.due(throttleKey(error))) {
+    if (errors_.due(rtabmap_odom::throttleKey(error))) {
       NODELET_ERROR("%s: %s; frame at %.6f dropped.", getName().c_str(), error.c_str(), stamp.toSec());
     }
     return;
@@ -222,7 +182,7 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
 
 void OdometryNodelet::reportLost(const rtabmap::OdometryInfo& info, const ros::Time& stamp) {
   // One line per distinct reason (a stream of identical lost frames would flood the log).
-  if (errors_.due("lost " + throttleKey(info.lostReason))) {
+  if (errors_.due("lost " + rtabmap_odom::throttleKey(info.lostReason))) {
     NODELET_WARN("%s: odometry lost at %.6f (%d consecutive frames): %s%s", getName().c_str(), stamp.toSec(),
                  odometry_->lostCount(), info.lostReason.c_str(),
                  info.autoReset ? " (Odom/ResetCountdown reached: odometry reset)" : "");

@@ -19,6 +19,7 @@
 #include "rtabmap_conversions/InfoConversions.h"
 #include "rtabmap_conversions/TransformConversions.h"
 #include "rtabmap_odom/NodeParameters.h"
+#include "rtabmap_odom/PrivateParameters.h"
 
 namespace rtabmap_ros {
 
@@ -31,41 +32,6 @@ const std::vector<std::string> kNodeParameters = {
     "odom_covariance_cumulative", "subscribe_depth", "subscribe_rgb", "subscribe_rgbd", "subscribe_stereo",
     "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom", "subscribe_odom_info", "subscribe_user_data",
     "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size"};
-
-std::optional<std::string> asText(XmlRpc::XmlRpcValue& v) {
-  std::ostringstream out;
-  switch (v.getType()) {
-    case XmlRpc::XmlRpcValue::TypeBoolean: return bool(v) ? "true" : "false";
-    case XmlRpc::XmlRpcValue::TypeInt: return std::to_string(int(v));
-    case XmlRpc::XmlRpcValue::TypeDouble: out.precision(9); out << double(v); return out.str();
-    case XmlRpc::XmlRpcValue::TypeString: return std::string(v);
-    default: return std::nullopt;
-  }
-}
-
-// The node's private parameters as text, names relative to its namespace ("Reg/Strategy").
-std::map<std::string, std::string> privateParameters(const ros::NodeHandle& pnh) {
-  std::map<std::string, std::string> out;
-  std::vector<std::string> names;
-  pnh.getParamNames(names);
-  const std::string prefix = pnh.getNamespace() + "/";
-  for (const std::string& full : names) {
-    if (full.compare(0, prefix.size(), prefix) != 0) continue;
-    XmlRpc::XmlRpcValue value;
-    if (!pnh.getParam(full, value)) continue;
-    if (std::optional<std::string> text = asText(value)) out[full.substr(prefix.size())] = *text;
-  }
-  return out;
-}
-
-// A log line's throttling key: its text without digits (stamps and counts change, the problem not).
-std::string throttleKey(const std::string& text) {
-  std::string key;
-  for (char c : text) {
-    if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
-  }
-  return key;
-}
 
 }  // namespace
 
@@ -165,7 +131,7 @@ rtabmap::ParametersMap RtabmapNodelet::readCoreParameters(ros::NodeHandle& pnh) 
       NODELET_ERROR("%s: config_path: %s; the file is ignored.", getName().c_str(), e.what());
     }
   }
-  const std::map<std::string, std::string> raw = privateParameters(pnh);
+  const std::map<std::string, std::string> raw = rtabmap_odom::privateParameters(pnh);
   rtabmap_odom::CoreParameters core = rtabmap_odom::coreParametersFromPrivate(raw);
   std::vector<std::string> warnings = rtabmap_odom::unknownNodeParameters(raw, kNodeParameters);
   warnings.insert(warnings.end(), core.warnings.begin(), core.warnings.end());
@@ -237,14 +203,14 @@ void RtabmapNodelet::onData(const rtabmap_sync::SyncedData& d) {
   std::optional<rtabmap::SensorData> frame;
   if (odometryOf(d, &odomPose, &covariance, &error)) frame = makeFrame(d, &error);
   if (!frame) {
-    if (warnings_.due(throttleKey(error))) {
+    if (warnings_.due(rtabmap_odom::throttleKey(error))) {
       NODELET_WARN("%s: %s; data at %.6f ignored.", getName().c_str(), error.c_str(), d.stamp.toSec());
     }
     return;
   }
   const bool used = core_->process(*frame, odomPose, covariance);
   if (!core_->lastRejection().empty()) {
-    if (warnings_.due(throttleKey(core_->lastRejection()))) {
+    if (warnings_.due(rtabmap_odom::throttleKey(core_->lastRejection()))) {
       NODELET_WARN("%s: data at %.6f refused: %s", getName().c_str(), d.stamp.toSec(),
                    core_->lastRejection().c_str());
     }
