@@ -56,7 +56,7 @@ test: build
 	@$(ROOT)/tools/build/run-tests.sh $(WS) $(JOBS)
 
 demo: build
-	@$(IN_WS) $(ROOT)/tools/build/run-demo.sh $(WS)
+	@$(IN_WS) $(ROOT)/tools/build/run-demo.sh $(WS) $(DEMO_ARGS)
 
 bench: build
 	@$(ROOT)/tools/build/run-bench.sh $(BUILD)/bin

@@ -4,6 +4,10 @@
 
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
+#include <rtabmap_ros/Path.h>
+#include <std_msgs/Bool.h>
+#include <visualization_msgs/MarkerArray.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <rtabmap_ros/Info.h>
 #include <rtabmap_ros/MapGraph.h>
@@ -161,6 +165,28 @@ void RtabmapNodelet::advertise(ros::NodeHandle& nh) {
   services_.push_back(nh.advertiseService("get_map", &RtabmapNodelet::onGetMap, this));
   services_.push_back(nh.advertiseService("set_label", &RtabmapNodelet::onSetLabel, this));
   services_.push_back(nh.advertiseService("list_labels", &RtabmapNodelet::onListLabels, this));
+  services_.push_back(nh.advertiseService("remove_label", &RtabmapNodelet::onRemoveLabel, this));
+  services_.push_back(nh.advertiseService("get_nodes_in_radius", &RtabmapNodelet::onGetNodesInRadius, this));
+  services_.push_back(nh.advertiseService("add_link", &RtabmapNodelet::onAddLink, this));
+  services_.push_back(nh.advertiseService("update_parameters", &RtabmapNodelet::onUpdateParameters, this));
+  services_.push_back(nh.advertiseService("load_database", &RtabmapNodelet::onLoadDatabase, this));
+  // Goals
+  mapPathPub_ = nh.advertise<nav_msgs::Path>("mapPath", 1, true);
+  globalPathPub_ = nh.advertise<nav_msgs::Path>("global_path", 1, true);
+  globalPathNodesPub_ = nh.advertise<rtabmap_ros::Path>("global_path_nodes", 1, true);
+  goalReachedPub_ = nh.advertise<std_msgs::Bool>("goal_reached", 1);
+  goalSub_ = nh.subscribe("goal", 1, &RtabmapNodelet::onGoal, this);
+  goalNodeSub_ = nh.subscribe("goal_node", 1, &RtabmapNodelet::onGoalNode, this);
+  services_.push_back(nh.advertiseService("set_goal", &RtabmapNodelet::onSetGoal, this));
+  services_.push_back(nh.advertiseService("cancel_goal", &RtabmapNodelet::onCancelGoal, this));
+  services_.push_back(nh.advertiseService("get_plan", &RtabmapNodelet::onGetPlan, this));
+  // Map views and data
+  labelsPub_ = nh.advertise<visualization_msgs::MarkerArray>("labels", 1, true);
+  graphMarkersPub_ = nh.advertise<visualization_msgs::MarkerArray>("graph_markers", 1, true);
+  mapDataPub_ = nh.advertise<rtabmap_ros::MapData>("mapData", 1);
+  services_.push_back(nh.advertiseService("get_map_data", &RtabmapNodelet::onGetMapData, this));
+  services_.push_back(nh.advertiseService("publish_map", &RtabmapNodelet::onPublishMap, this));
+  services_.push_back(nh.advertiseService("get_node_data", &RtabmapNodelet::onGetNodeData, this));
   if (publishTf_) tfTimer_ = nh.createWallTimer(ros::WallDuration(tfDelay_), &RtabmapNodelet::onTfTimer, this);
 }
 
@@ -174,11 +200,13 @@ bool RtabmapNodelet::startCore(bool mapping) {
     NODELET_ERROR("%s: cannot start SLAM on \"%s\" (%s mode): %s", getName().c_str(), databasePath_.c_str(),
                   mapping ? "mapping" : "localization", e.what());
     core_.reset();
+    publishGoalPath(ros::Time::now());  // a goal does not survive the core
     return false;
   }
   core_ = std::move(core);
   mapping_ = mapping;
   previousOdomCovariance_.reset();
+  publishGoalPath(ros::Time::now());
   NODELET_INFO("%s: SLAM started in %s mode on \"%s\"", getName().c_str(), mapping ? "mapping" : "localization",
                databasePath_.c_str());
   return true;
@@ -233,6 +261,9 @@ void RtabmapNodelet::publishUpdate(const ros::Time& stamp) {
                                                             core_->mapCorrection(), header));
   }
   if (gridMapPub_.getNumSubscribers() > 0) publishGrid(stamp);
+  publishGoalStatus(stamp);
+  publishMarkers(stamp);
+  if (mapDataPub_.getNumSubscribers() > 0) publishLatestNodeData(stamp);
   if (!mapping_ && localizationPosePub_.getNumSubscribers() > 0 && core_->statistics().loopClosureId +
                                                                            core_->statistics().proximityDetectionId > 0) {
     // Localised on the map by this update: where the robot is in the map.

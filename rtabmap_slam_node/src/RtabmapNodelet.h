@@ -21,17 +21,61 @@
 //     rtabmap_slam_node/SlamNodeSupport.h motionCovariance()
 //   Group/Name: core parameters (strings accepted; an unknown key is warned with the closest)
 // Arguments: -d / --delete_db_on_start deletes the database before opening it.
+// Topics in: goal (geometry_msgs/PoseStamped; any frame tf can bring to map_frame_id): plan to
+//   the node nearest to the pose and follow it; goal_node (rtabmap_ros/Goal: node_id, or
+//   node_label when node_id is 0).
 // Topics out: info (rtabmap_ros/Info), mapGraph (rtabmap_ros/MapGraph), grid_map
 //   (nav_msgs/OccupancyGrid, latched, computed only when subscribed), localization_pose
-//   (geometry_msgs/PoseWithCovarianceStamped, localization mode), tf map -> odom.
+//   (geometry_msgs/PoseWithCovarianceStamped, localization mode), tf map -> odom;
+//   goals: mapPath and global_path (nav_msgs/Path, latched: the active goal's path in the map
+//     frame with the latest optimised poses of its nodes; empty when there is no goal),
+//     global_path_nodes (rtabmap_ros/Path, latched: the same with node ids), goal_reached
+//     (std_msgs/Bool: true after the update that reached the goal, false when planning gave up);
+//   for stock rviz (latched, computed only when subscribed): labels (MarkerArray,
+//     TEXT_VIEW_FACING per label at its node) and graph_markers (MarkerArray: nodes as a
+//     SPHERE_LIST, links as one LINE_LIST per kind: neighbor, loop_closure, proximity, user);
+//   mapData (rtabmap_ros/MapData, only when subscribed): after each update, the graph and the
+//     data of the node that update added (classic incremental map; publish_map sends it all).
 // Services: reset, pause, resume, trigger_new_map, backup, set_mode_localization,
 //   set_mode_mapping (std_srvs/Empty), get_map (nav_msgs/GetMap), set_label
-//   (rtabmap_ros/SetLabel), list_labels (rtabmap_ros/ListLabels).
+//   (rtabmap_ros/SetLabel), list_labels (rtabmap_ros/ListLabels), remove_label
+//   (rtabmap_ros/RemoveLabel);
+//   set_goal (rtabmap_ros/SetGoal: node_id or node_label, frame_id "" or map_frame_id; answers
+//   the path and the planning time),
+//   cancel_goal (std_srvs/Empty), get_plan (rtabmap_ros/GetPlan: a path from the robot to
+//   goal_node or the goal pose without making it the goal; tolerance > 0: the pose must be
+//   that close to the path's last node);
+//   get_nodes_in_radius (rtabmap_ros/GetNodesInRadius: optimised poses within radius of a node
+//   or a position, nearest first; radius <= 0: any distance; k > 0: the k nearest);
+//   get_map_data (rtabmap_ros/GetMap: global = every node of the database, else the working
+//   memory; optimized = optimised poses (current referential), else odometry poses; graphOnly
+//   = no node data), publish_map (rtabmap_ros/PublishMap: the same, published on mapData and
+//   the marker topics), get_node_data (rtabmap_ros/GetNodeData: nodes by id with the asked
+//   parts; NodeData.pose is the odometry pose);
+//   add_link (rtabmap_ros/AddLink: a user link, Link type 4; the map is re-optimised at once),
+//   update_parameters (std_srvs/Empty: re-reads config_path and the private Group/Name
+//   parameters and restarts the core on the same database, in the same mode unless
+//   Mem/IncrementalMemory is among them; a new session starts, as after backup), load_database
+//   (rtabmap_ros/LoadDatabase: closes the map, opens database_path, clear = delete it first).
+// A request that cannot be served (no core, unknown node or label, bad values) answers false
+// with a warning saying why.
+#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/GetMap.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <rtabmap_ros/AddLink.h>
+#include <rtabmap_ros/GetMap.h>
+#include <rtabmap_ros/GetNodeData.h>
+#include <rtabmap_ros/GetNodesInRadius.h>
+#include <rtabmap_ros/GetPlan.h>
+#include <rtabmap_ros/Goal.h>
 #include <rtabmap_ros/ListLabels.h>
+#include <rtabmap_ros/LoadDatabase.h>
+#include <rtabmap_ros/MapData.h>
+#include <rtabmap_ros/PublishMap.h>
+#include <rtabmap_ros/RemoveLabel.h>
+#include <rtabmap_ros/SetGoal.h>
 #include <rtabmap_ros/SetLabel.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>
@@ -88,6 +132,39 @@ class RtabmapNodelet : public nodelet::Nodelet {
   bool onGetMap(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res);
   bool onSetLabel(rtabmap_ros::SetLabel::Request& req, rtabmap_ros::SetLabel::Response&);
   bool onListLabels(rtabmap_ros::ListLabels::Request&, rtabmap_ros::ListLabels::Response& res);
+  bool onRemoveLabel(rtabmap_ros::RemoveLabel::Request& req, rtabmap_ros::RemoveLabel::Response&);
+  bool onGetNodesInRadius(rtabmap_ros::GetNodesInRadius::Request& req, rtabmap_ros::GetNodesInRadius::Response& res);
+  bool onAddLink(rtabmap_ros::AddLink::Request& req, rtabmap_ros::AddLink::Response&);
+  bool onUpdateParameters(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onLoadDatabase(rtabmap_ros::LoadDatabase::Request& req, rtabmap_ros::LoadDatabase::Response&);
+  // Restarts the core after a change of database or parameters; on failure goes back to
+  // `previousPath` and `previousParameters` (the node stays usable) and returns false.
+  bool restartCore(const std::string& previousPath, const rtabmap::ParametersMap& previousParameters);
+
+  // Goals (RtabmapGoals.cpp).
+  void onGoal(const geometry_msgs::PoseStampedConstPtr& msg);
+  void onGoalNode(const rtabmap_ros::GoalConstPtr& msg);
+  bool onSetGoal(rtabmap_ros::SetGoal::Request& req, rtabmap_ros::SetGoal::Response& res);
+  bool onCancelGoal(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onGetPlan(rtabmap_ros::GetPlan::Request& req, rtabmap_ros::GetPlan::Response& res);
+  // Sets a goal on a node (id, or label when id is 0); false with a warning naming why.
+  bool setGoalNode(int nodeId, const std::string& label, const char* from);
+  // The goal pose in the map frame (tf from the message's frame); null with *error if unknown.
+  rtabmap::Transform poseInMap(const geometry_msgs::PoseStamped& goal, std::string* error) const;
+  void publishGoalPath(const ros::Time& stamp);
+  void publishGoalStatus(const ros::Time& stamp);  // after an update: path and goal_reached
+
+  // Map views and map data (RtabmapMapData.cpp).
+  void publishMarkers(const ros::Time& stamp, bool force = false);
+  void publishLatestNodeData(const ros::Time& stamp);
+  // The map as get_map_data / publish_map describe it.
+  rtabmap_ros::MapData mapDataOf(bool global, bool optimized, bool graphOnly, const ros::Time& stamp) const;
+  bool onGetMapData(rtabmap_ros::GetMap::Request& req, rtabmap_ros::GetMap::Response& res);
+  bool onPublishMap(rtabmap_ros::PublishMap::Request& req, rtabmap_ros::PublishMap::Response&);
+  bool onGetNodeData(rtabmap_ros::GetNodeData::Request& req, rtabmap_ros::GetNodeData::Response& res);
+  // False with a warning naming the service when there is no core.
+  bool haveCore(const char* service);
+  std_msgs::Header mapHeader(const ros::Time& stamp) const;
 
   std::string frameId_ = "base_link";
   std::string odomFrameId_ = "odom";
@@ -116,6 +193,10 @@ class RtabmapNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformListener> tfListener_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tfBroadcaster_;
   ros::Publisher infoPub_, mapGraphPub_, gridMapPub_, localizationPosePub_;
+  ros::Publisher mapPathPub_, globalPathPub_, globalPathNodesPub_, goalReachedPub_;
+  ros::Publisher labelsPub_, graphMarkersPub_, mapDataPub_;
+  ros::Subscriber goalSub_, goalNodeSub_;
+  bool goalPathShown_ = false;  // the last path published was not empty
   std::vector<ros::ServiceServer> services_;
   ros::WallTimer tfTimer_;
   rtabmap_sync::LogThrottle warnings_;

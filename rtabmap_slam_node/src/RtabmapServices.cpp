@@ -1,8 +1,12 @@
 // rtabmap nodelet: the services (RtabmapNodelet.h). Each takes the core's lock, so a service
 // never runs in the middle of an update.
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 
 #include "RtabmapNodelet.h"
+#include "rtabmap_conversions/GraphConversions.h"
+#include "rtabmap_slam_node/SlamNodeSupport.h"
 
 namespace rtabmap_ros {
 
@@ -113,6 +117,7 @@ bool RtabmapNodelet::onSetLabel(rtabmap_ros::SetLabel::Request& req, rtabmap_ros
     return false;
   }
   NODELET_INFO("%s: node %d labelled \"%s\".", getName().c_str(), id, req.node_label.c_str());
+  publishMarkers(ros::Time::now());
   return true;
 }
 
@@ -124,6 +129,100 @@ bool RtabmapNodelet::onListLabels(rtabmap_ros::ListLabels::Request&, rtabmap_ros
     res.labels.push_back(label);
   }
   return true;
+}
+
+bool RtabmapNodelet::onRemoveLabel(rtabmap_ros::RemoveLabel::Request& req, rtabmap_ros::RemoveLabel::Response&) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!haveCore("remove_label")) return false;
+  if (req.label.empty()) {
+    NODELET_WARN("%s: remove_label: the label is empty.", getName().c_str());
+    return false;
+  }
+  const int id = core_->nodeOfLabel(req.label);
+  if (id == 0) {
+    NODELET_WARN("%s: remove_label: no node has the label \"%s\".", getName().c_str(), req.label.c_str());
+    return false;
+  }
+  if (!core_->setLabel(id, "")) {
+    NODELET_WARN("%s: remove_label: cannot change node %d (localization mode does not modify the map).",
+                 getName().c_str(), id);
+    return false;
+  }
+  NODELET_INFO("%s: label \"%s\" removed from node %d.", getName().c_str(), req.label.c_str(), id);
+  publishMarkers(ros::Time::now());
+  return true;
+}
+
+bool RtabmapNodelet::onAddLink(rtabmap_ros::AddLink::Request& req, rtabmap_ros::AddLink::Response&) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!haveCore("add_link")) return false;
+  std::string why;
+  std::optional<rtabmap::Link> link = rtabmap_conversions::linkFromMsg(req.link, &why);
+  if (link && link->infMatrix().diagonal().minCoeff() <= 0.0) {
+    why = "the information matrix must have a positive diagonal (inverse variances of x y z roll pitch yaw)";
+    link.reset();
+  }
+  if (!link || !core_->addLink(*link)) {
+    NODELET_WARN("%s: add_link %d -> %d refused: %s", getName().c_str(), req.link.fromId, req.link.toId,
+                 link ? core_->lastRejection().c_str() : why.c_str());
+    return false;
+  }
+  {
+    std::lock_guard<std::mutex> tfLock(tfMutex_);
+    mapToOdom_ = core_->mapCorrection();
+  }
+  NODELET_INFO("%s: user link %d -> %d added; the map was re-optimised.", getName().c_str(), link->from(), link->to());
+  const ros::Time now = ros::Time::now();
+  publishMarkers(now);
+  publishGoalPath(now);
+  if (gridMapPub_.getNumSubscribers() > 0) publishGrid(now);
+  return true;
+}
+
+bool RtabmapNodelet::restartCore(const std::string& previousPath, const rtabmap::ParametersMap& previousParameters) {
+  stopCore();
+  if (!startCore(mapping_)) {
+    NODELET_WARN("%s: going back to \"%s\" with the previous parameters.", getName().c_str(), previousPath.c_str());
+    databasePath_ = previousPath;
+    parameters_ = previousParameters;
+    startCore(mapping_);
+    return false;
+  }
+  std::lock_guard<std::mutex> tfLock(tfMutex_);
+  mapToOdom_ = core_->mapCorrection();
+  return true;
+}
+
+bool RtabmapNodelet::onUpdateParameters(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const rtabmap::ParametersMap previous = parameters_;
+  parameters_ = readCoreParameters(getPrivateNodeHandle());
+  // The mode stays what the services made it; a Mem/IncrementalMemory parameter switches it.
+  if (parameters_.count("Mem/IncrementalMemory")) {
+    mapping_ = rtabmap::Parameters::getBool(parameters_, "Mem/IncrementalMemory");
+    parameters_.erase("Mem/IncrementalMemory");
+  }
+  if (!restartCore(databasePath_, previous)) return false;
+  NODELET_INFO("%s: update_parameters: %zu core parameters applied.", getName().c_str(), parameters_.size());
+  return true;
+}
+
+bool RtabmapNodelet::onLoadDatabase(rtabmap_ros::LoadDatabase::Request& req, rtabmap_ros::LoadDatabase::Response&) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::string path = rtabmap_slam_node::expandHome(req.database_path);
+  if (path.empty()) {
+    NODELET_WARN("%s: load_database: database_path is empty.", getName().c_str());
+    return false;
+  }
+  const std::string previous = databasePath_;
+  stopCore();  // the current map is saved before anything is deleted
+  if (req.clear && std::remove(path.c_str()) != 0 && errno != ENOENT) {
+    NODELET_WARN("%s: load_database: cannot delete %s: %s", getName().c_str(), path.c_str(), std::strerror(errno));
+  }
+  databasePath_ = path;
+  const bool ok = restartCore(previous, parameters_);
+  if (ok) NODELET_INFO("%s: load_database: now on \"%s\"%s.", getName().c_str(), path.c_str(), req.clear ? " (cleared)" : "");
+  return ok;
 }
 
 }  // namespace rtabmap_ros

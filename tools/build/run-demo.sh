@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The demo: for now, the ROS plumbing — the rgbd_sync nodelet loaded in a manager, standalone
-# and as a node, turning real RGB-D frames into rtabmap_ros/RGBDImage. It grows with the SLAM
-# pipeline into SLAM on bundled real data.
+# make demo: RTAB-Map through the real ROS pipeline on the bundled Intel Research Lab log and on
+# the simulator's multi-session robot (tools/demo/run_demo.py); writes demo_output/ and its
+# report.md. Runs in the sourced catkin workspace ($1), with the system python (rospy).
 set -euo pipefail
-ws="$1"
-rostest rtabmap_ros nodelet_plumbing.test
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+exec /usr/bin/python3 "$root/tools/demo/run_demo.py" --output "$root/demo_output" "${@:2}"

@@ -7,6 +7,7 @@
 #include "CeresGraph.h"
 #include "GraphSelection.h"
 #include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/optimizer/Graph.h"
 #include "rtabmap_core/optimizer/Initialization.h"
 
 namespace rtabmap {
@@ -120,6 +121,32 @@ std::map<int, Transform> optimizeGraph(const OptimizerOptions& options,
                                   : "stopped at the iteration limit: " + outcome.message;
   summary.totalTime = secondsSince(start);
   return std::move(outcome.poses);
+}
+
+std::map<int, Transform> optimizeEachComponent(const OptimizerOptions& options,
+                                               const std::map<int, Transform>& poses,
+                                               const std::multimap<int, Link>& links,
+                                               std::vector<std::string>* failures) {
+  std::map<int, Transform> result = poses;
+  for (const std::set<int>& component : graph::connectedComponents(poses, links)) {
+    if (component.size() < 2) continue;
+    std::map<int, Transform> inside;
+    for (int id : component) inside.emplace(id, poses.at(id));
+    std::multimap<int, Link> insideLinks;
+    for (const auto& [from, link] : links) {
+      if (component.count(link.from()) && component.count(link.to())) insideLinks.emplace(from, link);
+    }
+    OptimizerSummary s;
+    const std::map<int, Transform> optimised = optimizeGraph(options, inside, insideLinks, &s, *component.begin());
+    if (!s.success && failures) {
+      failures->push_back("the map of node " + std::to_string(*component.begin()) + " (" +
+                          std::to_string(component.size()) + " nodes) was not optimised: " + s.why);
+    }
+    for (const auto& [id, pose] : optimised) {
+      if (result.count(id)) result[id] = pose;
+    }
+  }
+  return result;
 }
 
 }  // namespace rtabmap

@@ -6,7 +6,6 @@
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
-#include "rtabmap_core/optimizer/Graph.h"
 
 namespace rtabmap {
 
@@ -63,22 +62,9 @@ void Rtabmap::Impl::loadExistingMap() {
     const int a = graph.mapOf(link.from()), b = graph.mapOf(link.to());
     if (a >= 0 && b >= 0 && a != b) graph.mergeMaps(a, b);
   }
-  for (const std::set<int>& component : graph::connectedComponents(odomPoses, links)) {
-    std::map<int, Transform> poses;
-    for (int id : component) poses.emplace(id, odomPoses.at(id));
-    if (poses.size() == 1) {
-      graph.updatePoses(poses);
-      continue;
-    }
-    graph::Links inside;
-    for (const auto& [from, link] : links) {
-      if (component.count(link.from()) && component.count(link.to())) inside.emplace(from, link);
-    }
-    OptimizerSummary s;
-    const std::map<int, Transform> optimised = optimizeGraph(optimizer, poses, inside, &s, *component.begin());
-    if (!s.success) RTABMAP_WARN("map of node " << *component.begin() << ": optimisation failed at start: " << s.why);
-    graph.updatePoses(optimised);
-  }
+  std::vector<std::string> failures;
+  graph.updatePoses(optimizeEachComponent(optimizer, odomPoses, links, &failures));
+  for (const std::string& f : failures) RTABMAP_WARN(f << " (at start)");
   // Localization starts where the last session ended, unless RGBD/StartAtOrigin.
   initialLocalizationPose = graph.pose(db->lastNodeId());
 

@@ -58,7 +58,9 @@ struct Fixture {
 };
 
 // Ten nodes down a corridor, with their scans, neighbour links and (but for two) local grids.
-Fixture makeDatabase(const std::string& path) {
+// The links are exact; the stored (odometry) poses drift sideways by `odometryDrift` metres per
+// node, as wheel odometry does, when it is not 0.
+Fixture makeDatabase(const std::string& path, double odometryDrift = 0.0) {
   Fixture f;
   f.options.sensor = LocalGridOptions::Sensor::kScan;
   f.options.cellSize = 0.05f;
@@ -78,7 +80,8 @@ Fixture makeDatabase(const std::string& path) {
       f.grids[id] = rayTraceScan2D(scan, f.options);
       data.setLocalGrid(f.grids[id]);
     }
-    Signature node(id, 0, 0, 100.0 + id, "", pose, Transform(), data);
+    const Transform odometry = Transform(0, odometryDrift * (id - 1), 0, 0, 0, 0) * pose;
+    Signature node(id, 0, 0, 100.0 + id, "", odometry, Transform(), data);
     if (!previous.isNull()) {
       node.addLink(Link(id, id - 1, Link::kNeighbor, pose.inverse() * previous));
     }
@@ -133,6 +136,25 @@ TEST(Export, WritesTheGridOctoMapCloudAndPosesOfADatabase) {
     ++lines;
     EXPECT_NEAR(stamp, 100.0 + lines, 1e-6);
     EXPECT_NEAR(x, f.poses.at(lines).x(), 1e-6);
+  }
+  EXPECT_EQ(lines, 10);
+}
+
+// The map is the graph the links make, not the odometry stored with each node: exported poses
+// are the optimised ones (node 1, the oldest, fixed where its odometry put it).
+TEST(Export, PosesAreTheOptimisedGraphNotTheStoredOdometry) {
+  TempDir dir("maps_export_optimised");
+  const Fixture f = makeDatabase(dir.file("map.db"), 0.2);
+  const ToolRun ok = runExport("--json --poses " + dir.file("poses.tum") + " " + dir.file("map.db"));
+  ASSERT_EQ(ok.exitCode, 0) << ok.out;
+  std::ifstream tum(dir.file("poses.tum"));
+  double stamp, x, y, z, qx, qy, qz, qw;
+  int lines = 0;
+  while (tum >> stamp >> x >> y >> z >> qx >> qy >> qz >> qw) {
+    ++lines;
+    EXPECT_NEAR(x, f.poses.at(lines).x(), 1e-4) << "node " << lines;
+    EXPECT_NEAR(y, f.poses.at(lines).y(), 1e-4) << "node " << lines << " (odometry says "
+                                                  << f.poses.at(lines).y() + 0.2 * (lines - 1) << ")";
   }
   EXPECT_EQ(lines, 10);
 }

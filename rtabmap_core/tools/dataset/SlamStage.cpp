@@ -46,6 +46,9 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
   wallSeconds_ += ms / 1000.0;
   if (used) {
     updateMs_.push_back(ms);
+    for (const auto& [key, value] : rtabmap_.statistics().data()) {
+      if (key.rfind("Timing/", 0) == 0) stageMs_[key].push_back(value);
+    }
     const int id = rtabmap_.statistics().refImageId;
     if (id > 0 && !nodeStamps_.count(id)) {
       nodeStamps_[id] = frame.stamp;
@@ -100,6 +103,12 @@ nlohmann::json SlamStage::toJson(double datasetSeconds) const {
   j["slam_ms_median"] = percentile(updateMs_, 0.5);
   j["slam_ms_p99"] = percentile(updateMs_, 0.99);
   j["slam_ms_max"] = updateMs_.empty() ? 0.0 : *std::max_element(updateMs_.begin(), updateMs_.end());
+  // Where the time goes, stage by stage (median and p99 over the updates that ran the stage).
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [key, values] : stageMs_) {
+    stages[key] = {{"median", percentile(values, 0.5)}, {"p99", percentile(values, 0.99)}};
+  }
+  j["slam_stage_ms"] = stages;
   j["max_wm_size"] = s.maxWmSize;
   j["realtime_factor"] = wallSeconds_ > 0.0 ? datasetSeconds / wallSeconds_ : 0.0;
   if (!groundTruth_.empty() && !options_.localization) {

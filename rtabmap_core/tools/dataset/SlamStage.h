@@ -32,7 +32,7 @@ class SlamStage {
   // is a grid.
   void finish();
   // frames, nodes, sessions, loop_closures, proximity_links, rejected_links, slam_ms_* ,
-  // max_wm_size, realtime_factor, ate_rmse (against the frames' ground truth).
+  // slam_stage_ms (Timing/* median and p99), max_wm_size, realtime_factor, ate_rmse (against the frames' ground truth).
   nlohmann::json toJson(double datasetSeconds) const;
   const Rtabmap& rtabmap() const { return rtabmap_; }
 
@@ -50,6 +50,7 @@ class SlamStage {
   std::vector<FrameRef> frameRefs_;
   std::map<double, Transform> groundTruth_;  // frame stamp -> ground truth (base)
   std::vector<double> updateMs_;
+  std::map<std::string, std::vector<double>> stageMs_;  // Timing/... statistic -> per update
   double wallSeconds_ = 0.0;
   std::map<int, Transform> finalPoses_;
   int sessions_ = 0;

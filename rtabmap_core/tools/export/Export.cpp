@@ -16,6 +16,7 @@
 #include "rtabmap_core/maps/MapIO.h"
 #include "rtabmap_core/maps/OccupancyGrid.h"
 #include "rtabmap_core/maps/OctoMap.h"
+#include "rtabmap_core/optimizer/Optimizer.h"
 
 namespace rtabmap::tools::exporter {
 
@@ -89,6 +90,12 @@ Report run(const Request& req, const std::function<void(size_t, size_t)>& progre
   std::map<int, Transform> poses = storedPoses(headers, &nullPoses);
   if (nullPoses) report.warnings.push_back(std::to_string(nullPoses) + " node(s) have no pose and are left out");
   if (poses.empty()) throw FormatError("database " + req.database + ": no node has a pose");
+  // The stored poses are odometry; the map is the graph optimised with every link, as the
+  // SLAM node does when it opens the database.
+  std::vector<std::string> notOptimised;
+  poses = optimizeEachComponent(OptimizerOptions::fromParameters(params), poses, database.loadAllLinks(false),
+                                &notOptimised);
+  for (const std::string& why : notOptimised) report.warnings.push_back(why);
 
   Maps maps;
   const bool needGrids = !req.gridPath.empty() || !req.octomapPath.empty() || !req.cloudPath.empty();

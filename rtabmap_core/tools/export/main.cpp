@@ -24,8 +24,10 @@ int main(int argc, char** argv) {
     tools::CommandLine cli(
         "rtabmap-export",
         "Writes the maps of an rtabmap_ros database: the global 2D occupancy grid as map_server "
-        "reads it, the OctoMap, the assembled point cloud and the node poses. Maps are assembled "
-        "from the local grid stored with each node; nodes stored without one get it computed from "
+        "reads it, the OctoMap, the assembled point cloud and the node poses. The poses are the "
+        "graph optimised with every link of the database (each connected map on its own, its "
+        "oldest node fixed), as the SLAM node has them when it opens the database. Maps are "
+        "assembled from the local grid stored with each node; nodes stored without one get it computed from "
         "their laser scan or depth image with the Grid/* parameters (the database's, overridden "
         "by --Grid/... arguments).");
     cli.addPositional("database", "The database (.db), opened read-only.");
@@ -34,9 +36,7 @@ int main(int argc, char** argv) {
                   "negate, occupied_thresh, free_thresh) and OUT.png (preview).");
     cli.addOption("octomap", "OUT.bt|OUT.ot", "OctoMap: .bt (occupancy) or .ot (with colours).");
     cli.addOption("cloud", "OUT.ply|OUT.pcd", "Assembled point cloud (obstacles and ground, voxel filtered).");
-    cli.addOption("poses", "OUT.tum", "Node poses, one line per node: stamp x y z qx qy qz qw.");
-    cli.addNote("Nodes are placed at the pose stored with each node (odometry, or the optimised pose "
-                "once the SLAM pipeline has stored it).");
+    cli.addOption("poses", "OUT.tum", "Optimised node poses, one line per node: stamp x y z qx qy qz qw.");
     cli.addFlag("regenerate", "Compute every local grid again from the sensor data, even when one is stored.");
     cli.addOption("png-scale", "N", "Enlarge the PNG preview N times.", "1");
     cli.addNote("Example: rtabmap-export --grid map.pgm --octomap map.bt --cloud map.ply ~/.ros/rtabmap.db");

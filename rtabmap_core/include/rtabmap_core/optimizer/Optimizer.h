@@ -38,6 +38,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rtabmap_core/geometry/Transform.h"
 #include "rtabmap_core/memory/Link.h"
@@ -148,5 +149,15 @@ std::map<int, Transform> optimizeGraph(const OptimizerOptions& options,
                                        const std::multimap<int, Link>& links,
                                        OptimizerSummary* summary = nullptr,
                                        std::optional<int> rootId = std::nullopt);
+
+// The whole graph of a database (every session): each connected component optimised on its
+// own with its oldest node (smallest id) fixed, so maps joined by links share the oldest one's
+// referential and a map never linked to another keeps its own. Nodes alone keep their pose.
+// `failures` (may be null) gets one line per component whose optimisation failed (its poses
+// are then returned as given).
+std::map<int, Transform> optimizeEachComponent(const OptimizerOptions& options,
+                                               const std::map<int, Transform>& poses,
+                                               const std::multimap<int, Link>& links,
+                                               std::vector<std::string>* failures = nullptr);
 
 }  // namespace rtabmap

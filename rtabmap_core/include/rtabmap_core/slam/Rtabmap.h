@@ -45,6 +45,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,7 @@
 #include "rtabmap_core/geometry/Transform.h"
 #include "rtabmap_core/maps/GridMap.h"
 #include "rtabmap_core/memory/Link.h"
+#include "rtabmap_core/memory/Signature.h"
 #include "rtabmap_core/params/Parameters.h"
 #include "rtabmap_core/slam/Statistics.h"
 
@@ -71,6 +73,15 @@ struct SlamSummary {
   int mapsStarted = 0;        // maps (sessions) started, the first one included
   int transferred = 0, retrieved = 0;
   int maxWmSize = 0;
+};
+
+// Which parts of a node's sensor data Rtabmap::node() returns (links, words, calibration, GPS
+// and the odometry pose always come).
+struct NodeDataParts {
+  bool images = true;  // RGB / left and depth / right images
+  bool scan = true;
+  bool grid = true;    // the local occupancy grid
+  bool userData = true;
 };
 
 class Rtabmap {
@@ -144,6 +155,26 @@ class Rtabmap {
   // The global occupancy grid (RGBD/CreateOccupancyGrid), assembled from the local grids with
   // the optimised poses of the current referential. Empty without grids.
   GridMap gridMap() const;
+
+  // --- Queries and edits for the ROS interface (RtabmapQueries.cpp) ---
+  // A path from the robot to a node, or to a pose of the current referential, planned as
+  // setGoal() plans (same planner and options, whole map) but leaving the active goal alone:
+  // what a navigation stack asks before deciding. Empty, with the reason in *why, if none.
+  std::vector<std::pair<int, Transform>> planPath(int nodeId, std::string* why = nullptr) const;
+  std::vector<std::pair<int, Transform>> planPath(const Transform& pose, std::string* why = nullptr) const;
+
+  // A node of the map, from RAM or else the database; getPose() is its odometry pose (the
+  // optimised one is in optimizedPoses()). nullopt if no such node.
+  std::optional<Signature> node(int id, const NodeDataParts& parts = NodeDataParts()) const;
+  // Every node of the database and of RAM, every referential (sorted).
+  std::vector<int> allNodeIds() const;
+
+  // A link given by the user (Link::kUserClosure, e.g. "these two places are the same"):
+  // between two nodes of the map, brought back from LTM if needed; the local map is
+  // re-optimised at once, so map -> odom and the poses follow. False, with the reason in
+  // lastRejection(), for an unknown node, a self link, a null transform, localization mode
+  // (the map is read-only), or a link the graph rejects (RGBD/OptimizeMaxError).
+  bool addLink(const Link& link);
 
  private:
   struct Impl;
