@@ -236,7 +236,17 @@ void RtabmapNodelet::onData(const rtabmap_sync::SyncedData& d) {
     }
     return;
   }
-  const bool used = core_->process(*frame, odomPose, covariance);
+  bool used = false;
+  try {
+    used = core_->process(*frame, odomPose, covariance);
+  } catch (const std::exception& e) {
+    // The core refuses bad input through lastRejection(); an exception is a fault (e.g. the
+    // database): reported, and the node keeps running with what the core still holds.
+    if (warnings_.due(rtabmap_odom::throttleKey(e.what()))) {
+      NODELET_ERROR("%s: SLAM update at %.6f failed: %s", getName().c_str(), d.stamp.toSec(), e.what());
+    }
+    return;
+  }
   if (!core_->lastRejection().empty()) {
     if (warnings_.due(rtabmap_odom::throttleKey(core_->lastRejection()))) {
       NODELET_WARN("%s: data at %.6f refused: %s", getName().c_str(), d.stamp.toSec(),

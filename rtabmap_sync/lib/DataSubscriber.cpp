@@ -73,6 +73,7 @@ struct DataSubscriber::Impl {
   mutable std::mutex mutex;  // guards the fields below (topic callbacks vs the watch timer)
   std::vector<TopicStatus> status;
   std::vector<ros::Time> lastStamps;
+  ros::Time lastClock;  // ROS time when a message was last accepted
   ros::WallTime lastDelivery;
   ros::WallTime lastWarning;
   long delivered = 0;
@@ -112,6 +113,12 @@ struct DataSubscriber::Impl {
     }
   }
 
+  // ROS time (simulated with use_sim_time) is earlier than when the last message was accepted.
+  bool clockWentBack() const {
+    const ros::Time now = ros::Time::now();
+    return !lastClock.isZero() && !now.isZero() && now < lastClock;
+  }
+
   // Unset or non-increasing stamps are dropped here: ApproximateTime assumes each topic's
   // stamps increase, and a duplicated frame would be paired twice.
   bool acceptStamp(int slot, const ros::Time& stamp) {
@@ -124,6 +131,15 @@ struct DataSubscriber::Impl {
       return false;
     }
     ros::Time& last = lastStamps[size_t(slot)];
+    if (!last.isZero() && stamp <= last && clockWentBack()) {
+      // A restarted bag (rosbag play --clock again) or a simulator reset: ROS time itself went
+      // back, so the older stamps are the new normal. Start over, as tf2's listener does; the
+      // SLAM core starts a new map when odometry restarts at the origin.
+      ROS_WARN("%s: ROS time jumped back to %.6f (%s stamp %.6f after %.6f): a restarted bag? Accepting the new "
+               "stamps from now on.", name.c_str(), ros::Time::now().toSec(), topic.c_str(), stamp.toSec(),
+               last.toSec());
+      for (ros::Time& t : lastStamps) t = ros::Time();
+    }
     if (!last.isZero() && stamp <= last) {
       ++dropped;
       const char* what = stamp == last ? "duplicated" : "out of order";
@@ -134,6 +150,7 @@ struct DataSubscriber::Impl {
       return false;
     }
     last = stamp;
+    lastClock = ros::Time::now();
     TopicStatus& s = status[size_t(slot)];
     ++s.received;
     s.lastStamp = stamp.toSec();

@@ -1,6 +1,9 @@
 #include "Schema.h"
 
+#include <algorithm>
 #include <ctime>
+#include <regex>
+#include <set>
 #include <vector>
 
 #include "Sqlite.h"
@@ -150,6 +153,34 @@ std::string tableList(Connection& connection) {
   return names;
 }
 
+// The tables a file of schema `version` has: those its steps create, less those they drop.
+std::vector<std::string> tablesOfVersion(int version) {
+  static const std::regex statement(R"((CREATE|DROP) TABLE (?:IF (?:NOT )?EXISTS )?(\w+))");
+  std::vector<std::string> tables;
+  for (int v = 1; v <= version && v <= static_cast<int>(kSteps.size()); ++v) {
+    const std::string step = kSteps[v - 1];
+    for (std::sregex_iterator it(step.begin(), step.end(), statement), end; it != end; ++it) {
+      const std::string name = (*it)[2];
+      tables.erase(std::remove(tables.begin(), tables.end(), name), tables.end());
+      if ((*it)[1] == "CREATE") tables.push_back(name);
+    }
+  }
+  return tables;
+}
+
+// A table dropped by hand or lost with a damaged page would otherwise surface in the middle
+// of a load or in the writer thread, after the file was already written to (a new session).
+std::string missingTables(Connection& connection, int version) {
+  std::set<std::string> present;
+  Query q = connection.query("SELECT name FROM sqlite_master WHERE type = 'table'");
+  while (q->step()) present.insert(q->columnText(0));
+  std::string missing;
+  for (const std::string& table : tablesOfVersion(version)) {
+    if (!present.count(table)) missing += (missing.empty() ? "" : ", ") + table;
+  }
+  return missing;
+}
+
 }  // namespace
 
 FileState inspect(Connection& connection) {
@@ -180,6 +211,7 @@ FileState inspect(Connection& connection) {
       throw DatabaseError("database " + connection.path() +
                           " is damaged: its Admin table (schema version and writer) is missing");
     }
+    if (state.version <= kSchemaVersion) state.missingTables = missingTables(connection, state.version);
   } else if (tables == 0) {
     state.kind = Kind::kEmpty;
   } else {
@@ -207,6 +239,10 @@ void requireUsable(const FileState& state, const std::string& path, bool readOnl
   if (state.version < 1) {
     throw DatabaseError("database " + path + " is damaged: its schema version is " +
                         std::to_string(state.version));
+  }
+  if (!state.missingTables.empty()) {
+    throw DatabaseError("database " + path + " is damaged: table(s) " + state.missingTables +
+                        " of schema version " + std::to_string(state.version) + " missing");
   }
   if (state.version < kSchemaVersion && readOnly) {
     throw DatabaseError("database " + path + ": database version " + std::to_string(state.version) +

@@ -22,6 +22,7 @@ struct FileState {
   std::string createdBy;       // Admin.created_by
   std::string lastWrittenBy;   // Admin.written_by
   std::string foreignTables;   // a few table names of a foreign file, for the message
+  std::string missingTables;   // ours: tables its schema version has that the file lacks
 };
 
 // Reads the identity of the file. Throws DatabaseError if SQLite cannot read it (corrupt,
@@ -29,7 +30,8 @@ struct FileState {
 FileState inspect(Connection& connection);
 
 // Throws DatabaseError with a message for the user if this build cannot use the file:
-// foreign file, newer version (always), older version opened read-only (cannot upgrade).
+// foreign file, newer version (always), older version opened read-only (cannot upgrade),
+// a table of its version missing (damaged: refused before anything is written to it).
 void requireUsable(const FileState& state, const std::string& path, bool readOnly);
 
 // Creates every table (empty file) or applies the missing steps (older version), in one

@@ -23,6 +23,7 @@ Writer::Writer(std::unique_ptr<Connection> connection, Config config)
 Writer::~Writer() { stop(); }
 
 uint64_t Writer::push(std::shared_ptr<Operation> op, bool isNode) {
+  retryIfDue();
   std::unique_lock<std::mutex> lock(mutex_);
   if (isNode && config_.maxPendingNodes > 0) {
     // Back-pressure: the disk cannot keep up; wait rather than grow without bound.
@@ -37,6 +38,24 @@ uint64_t Writer::push(std::shared_ptr<Operation> op, bool isNode) {
   if (isNode) ++queuedNodes_;
   workAvailable_.notify_one();
   return lastTicket_;
+}
+
+void Writer::retryIfDue() {
+  std::thread ended;
+  std::string error;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!failed_ || stopping_) return;
+    if (std::chrono::steady_clock::now() - failedAt_ < std::chrono::duration<double>(kRetrySeconds)) return;
+    // The old thread returned right after failWith() (it may still be logging): joined below,
+    // outside the lock, as a log sink may ask for the status.
+    ended = std::move(thread_);
+    failed_ = false;
+    error.swap(error_);
+    thread_ = std::thread([this] { run(); });
+  }
+  if (ended.joinable()) ended.join();
+  RTABMAP_WARN("long-term memory: writing to " << connection_->path() << " again (after: " << error << ")");
 }
 
 void Writer::flush() {
@@ -158,6 +177,7 @@ void Writer::failWith(const std::string& error) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     failed_ = true;
+    failedAt_ = std::chrono::steady_clock::now();
     error_ = error;
     message = failureMessage();
   }

@@ -6,6 +6,7 @@
 // maxBatchNodes nodes and whatever small operations lie between them), writes it in one
 // transaction, commits, and only then removes it from the queue: an operation is always
 // either still queued (readers see it there) or committed (readers see it in the file).
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -39,7 +40,9 @@ class Writer {
   Writer& operator=(const Writer&) = delete;
 
   // Queues an operation and returns its ticket. Blocks while maxPendingNodes nodes are queued.
-  // Throws DatabaseError once the writer has failed.
+  // Throws DatabaseError once the writer has failed, until kRetrySeconds after the failure:
+  // then the writer starts again with what is queued (the failed batch first; its transaction
+  // was rolled back), so that space freed on a full disk is used again.
   template <typename Op>
   uint64_t enqueue(Op op) {
     return push(std::make_shared<Operation>(Operation{0, std::move(op)}), isNode(op));
@@ -61,7 +64,11 @@ class Writer {
   template <typename Op>
   static bool isNode(const Op&) { return false; }
 
+  static constexpr double kRetrySeconds = 5.0;
+
   uint64_t push(std::shared_ptr<Operation> op, bool isNode);
+  // After a failure: starts the thread again once kRetrySeconds passed (takes mutex_).
+  void retryIfDue();
   void run();
   // Takes the next batch from the head of the queue (without removing it).
   std::vector<OperationPtr> nextBatch();
@@ -84,6 +91,7 @@ class Writer {
   int lastDurableNodeId_ = 0;
   bool stopping_ = false;
   bool failed_ = false;
+  std::chrono::steady_clock::time_point failedAt_;
   std::string error_;
   std::thread thread_;
 };

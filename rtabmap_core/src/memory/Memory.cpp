@@ -7,10 +7,23 @@
 #include <stdexcept>
 
 #include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/vocabulary/Similarity.h"
 
 namespace rtabmap::memory {
+
+namespace {
+
+// Said once per doubling of the locations held in RAM only (STM excluded), not at every update.
+void warnHeldInRam(size_t held, const std::string& cause) {
+  if ((held & (held - 1)) != 0) return;
+  RTABMAP_ERROR("long-term memory: the database takes no more writes; " << held
+                << " location(s) are kept in RAM only (lost if the process ends before they can be saved): "
+                << cause);
+}
+
+}  // namespace
 
 MemoryOptions MemoryOptions::fromParameters(const ParametersMap& p) {
   MemoryOptions o;
@@ -328,6 +341,9 @@ void Memory::moveStmOverflowToWm() {
   }
 }
 
+// A location the LTM refuses (its writer stopped: disk full, I/O error) stays in RAM, unsaved:
+// mapping goes on, transfer keeps it (see transfer()), and saveAll() tries it again at the
+// end. The writer logged the cause; what is at stake is said here.
 void Memory::saveToLtm(Signature& s) {
   if (!options_.incremental) return;  // localization: the saved map is never modified
   std::vector<db::StoredWord> newWords;
@@ -336,9 +352,19 @@ void Memory::saveToLtm(Signature& s) {
     const vocabulary::VisualWord* w = vocabulary_.word(it->first);
     if (!w) continue;
     newWords.push_back({w->id, w->descriptor});
-    savedWords_.insert(w->id);
   }
-  ltm_->saveNode(s, std::move(newWords));
+  std::vector<int> newWordIds;
+  for (const db::StoredWord& w : newWords) newWordIds.push_back(w.id);
+  try {
+    ltm_->saveNode(s, std::move(newWords));
+  } catch (const DatabaseError& e) {
+    const size_t unsaved = static_cast<size_t>(std::count_if(
+        signatures_.begin(), signatures_.end(), [](const auto& entry) { return !entry.second.isSaved(); }));
+    warnHeldInRam(unsaved > stm_.size() ? unsaved - stm_.size() : 1, e.what());
+    return;
+  }
+  // Only now: words of a refused location must go with it when it is saved later.
+  savedWords_.insert(newWordIds.begin(), newWordIds.end());
   s.setSaved(true);
   s.setModified(false);
   s.setLinksModified(false);
@@ -399,8 +425,15 @@ void Memory::addLoopClosure(const Link& link) {
   lastGlobalLoopClosureId_ = std::max(lastGlobalLoopClosureId_, newer.id());
 }
 
+// A stopped writer (disk full...) is not this update's failure: the writer logged why, what it
+// could not write is still readable from its queue, and saveToLtm() keeps refused locations
+// in RAM. Throwing here would end every later update (and the SLAM node with it).
 void Memory::joinLtmWriter() {
-  if (ltm_) ltm_->flush();
+  if (!ltm_) return;
+  try {
+    ltm_->flush();
+  } catch (const DatabaseError&) {
+  }
 }
 
 void Memory::saveAll() {

@@ -51,6 +51,9 @@ TransferResult Memory::transfer(const std::set<int>& immune, int minWordsRemoved
     if (wordsOk && sizeOk && countOk) break;
     Signature& s = at(id);
     if (!s.isSaved() || s.isModified() || s.isLinksModified()) saveToLtm(s);
+    // Refused by the LTM (disk full...): it stays in WM rather than being lost, and so do the
+    // others (WM grows beyond its budget; the map is complete).
+    if (!s.isSaved() || s.isModified() || s.isLinksModified()) break;
     result.wordsRemoved += removeFromVocabulary(id, s.getWords());
     wm_.erase(id);
     signatures_.erase(id);

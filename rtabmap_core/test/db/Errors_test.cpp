@@ -111,6 +111,32 @@ TEST(DatabaseErrors, TruncatedCopyIsRefused) {
   EXPECT_NE(std::string::npos, error.find("truncated")) << error;
 }
 
+// Found through the node (test/fault_database.test): a dropped table was only noticed when a
+// load needed it, after opening for writing had already added a session to the file.
+TEST(DatabaseErrors, MissingTableIsRefusedBeforeAnyWrite) {
+  TempDir dir;
+  const std::string path = dir.file("dropped.db");
+  makeDatabase(path, 3);
+  {
+    RawSqlite raw(path);
+    raw.exec("DROP TABLE Link; DROP TABLE Word");
+  }
+  const std::vector<char> before = readFile(path);
+  const bool walBefore = std::filesystem::exists(path + "-wal");
+  for (const Database::Options& options : {Database::Options(), readOnly()}) {
+    Database db;
+    const std::string error = errorOf([&] { db.open(path, options); });
+    EXPECT_NE(std::string::npos, error.find("database " + path + " is damaged: table(s) Word, Link of schema version"))
+        << error;
+    EXPECT_FALSE(db.isOpen());
+    EXPECT_EQ(before, readFile(path));
+    // (A read-only SQLite connection to a WAL file leaves an empty -wal and -shm behind.)
+    if (!options.readOnly) {
+      EXPECT_EQ(walBefore, std::filesystem::exists(path + "-wal"));
+    }
+  }
+}
+
 TEST(DatabaseErrors, ForeignSqliteDatabaseIsRefused) {
   TempDir dir;
   const std::string path = dir.file("foreign.db");

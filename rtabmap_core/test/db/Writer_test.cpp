@@ -160,5 +160,34 @@ TEST(DatabaseWriter, LoadsDuringWritesAreConsistent) {
   EXPECT_TRUE(db.checkConsistency(true).ok());
 }
 
+// A write failure that goes away (space freed on a full disk; here another process holding the
+// file locked longer than busyTimeoutMs): saves are refused at first, then the writer starts
+// again with what was queued, and nothing queued or saved after is lost.
+TEST(DatabaseWriter, StartsAgainAfterATransientFailure) {
+  TempDir dir;
+  const std::string path = dir.file("transient.db");
+  Database::Options options;
+  options.busyTimeoutMs = 100;
+  Database db(path, options);
+  db.saveNode(makeNode(1, 0));
+  db.flush();
+  {
+    RawSqlite other(path);
+    other.exec("BEGIN EXCLUSIVE");
+    db.saveNode(makeNode(2, 0));
+    EXPECT_NE(std::string::npos, errorOf([&] { db.flush(); }).find("locked")) << "the lock did not fail the writer";
+    EXPECT_TRUE(db.writerStatus().failed);
+    EXPECT_FALSE(errorOf([&] { db.saveNode(makeNode(3, 0)); }).empty());  // refused at once
+    other.exec("COMMIT");
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(5200));  // Writer::kRetrySeconds
+  EXPECT_TRUE(errorOf([&] { db.saveNode(makeNode(4, 0)); }).empty());
+  EXPECT_TRUE(errorOf([&] { db.flush(); }).empty());
+  EXPECT_FALSE(db.writerStatus().failed);
+  EXPECT_EQ(4, db.lastDurableNodeId());
+  for (int id : {1, 2, 4}) EXPECT_TRUE(db.loadNode(id).has_value()) << id;
+  EXPECT_FALSE(db.loadNode(3).has_value());  // refused: its owner keeps it (Memory does)
+}
+
 }  // namespace
 }  // namespace rtabmap::test::db

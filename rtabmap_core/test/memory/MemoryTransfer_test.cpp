@@ -3,6 +3,7 @@
 
 #include "MemoryTestPlaces.h"
 #include "common/TestData.h"
+#include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/memory/Memory.h"
 
@@ -122,6 +123,53 @@ TEST(MemoryTransfer, WithoutLtmTransferIsAnError) {
   Memory m(MemoryOptions{});
   EXPECT_THROW(m.transfer({}, 1, 0, true), std::logic_error);
   EXPECT_THROW(m.retrieve(1), std::logic_error);
+}
+
+// Disk full (found through the node, test/fault_disk_full.test: the SLAM node died of the
+// exception): locations the LTM refuses stay in RAM, mapping goes on, transfer keeps them,
+// and everything saved before the failure is in the file.
+TEST(MemoryTransfer, FullDiskKeepsRefusedLocationsInRam) {
+  rtabmap::test::TempDir dir;
+  db::DatabaseOptions full;
+  full.maxPageCount = 60;  // 240 KiB with 4 KiB pages: fills after a few locations
+  full.maxBatchNodes = 1;
+  db::Database database(dir.file("full.db"), full);
+  MemoryOptions o;
+  o.stmSize = 1;
+  o.recentWmRatio = 0.f;
+  Memory m(o, &database);
+  int last = 0;
+  for (int p = 1; p <= 200 && !database.writerStatus().failed; ++p) {
+    ASSERT_NO_THROW(m.addLocation(view(p)));
+    last = m.lastLocationId();
+    try {
+      database.flush();  // commits what is queued, or throws once the page limit is hit
+    } catch (const DatabaseError&) {
+    }
+  }
+  ASSERT_TRUE(database.writerStatus().failed) << "the page limit was never reached";
+  const int lastDurable = database.writerStatus().lastDurableNodeId;
+  ASSERT_GT(lastDurable, 0);
+  for (int p = 201; p <= 210; ++p) {  // mapping goes on; each update starts by joining the writer
+    ASSERT_NO_THROW(m.joinLtmWriter());
+    ASSERT_NO_THROW(m.addLocation(view(p)));
+  }
+  last = m.lastLocationId();
+
+  // Queued before the failure: still readable from the writer's queue. Refused: in RAM only.
+  const int lastQueued = lastDurable + static_cast<int>(database.writerStatus().pendingNodes);
+  ASSERT_LT(lastQueued, last - 1);
+  const TransferResult r = m.transfer({}, 0, 1, false);
+  EXPECT_FALSE(r.transferred.empty());
+  for (int id : r.transferred) EXPECT_LE(id, lastQueued) << "transferred a location the LTM refused";
+  for (int id = 1; id <= last; ++id) {
+    const bool inRam = m.wm().count(id) || m.stm().count(id);
+    EXPECT_TRUE(inRam || database.loadNode(id).has_value()) << "location " << id << " lost";
+    if (id > lastQueued) {
+      EXPECT_TRUE(inRam) << id;
+    }
+  }
+  EXPECT_THROW(m.saveAll(), DatabaseError);  // the end still tells the loss
 }
 
 }  // namespace

@@ -21,7 +21,9 @@
 // Errors never crash and never yield a silent empty map: opening a database of a newer schema,
 // a corrupt or foreign file, a read-only file or directory or a missing directory throws
 // DatabaseError with the reason. A write failure (disk full...) stops the writer: what was
-// committed stays, writerStatus() tells the error, and later save*()/flush() throw it.
+// committed stays, writerStatus() tells the error, and later save*()/flush() throw it until
+// the writer tries again, 5 s after the failure, with what is queued (space freed on a full
+// disk is used again).
 #include <cstdint>
 #include <functional>
 #include <map>
