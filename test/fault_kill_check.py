@@ -5,12 +5,10 @@ kill the database opens and passes its consistency check, and holds every node t
 acknowledged; after the last restart the node maps the rest of the bag, and the final database
 gives a pose for every node.
 
-"Acknowledged": the node publishes no durability signal (the core's writer knows its last
-durable node, but neither Rtabmap nor the node tell it). What the node tells the world is
-`info` with the id of each node; a node goes to the database's writer when it leaves the
-Short-Term Memory, i.e. when Mem/STMSize newer nodes exist. So a node is acknowledged when at
-least Mem/STMSize newer node ids were published on `info` at least ACK_DELAY seconds before the
-kill (time for the background writer to commit it)."""
+"Acknowledged": what the node told the world is safe on disk. Each `info` carries
+Memory/Durable_node_id, the last node whose write committed (the writer commits in order), so
+every node id published on `info` up to the largest Durable_node_id received before the kill
+must be in the database, that node included."""
 import math
 import os
 import random
@@ -30,13 +28,17 @@ import fault_common as fault  # noqa: E402
 import odom_common as common  # noqa: E402  (temporary folders, waiting)
 
 STM_SIZE = 10  # Mem/STMSize (the default)
-ACK_DELAY = 1.0
 
 
 def acknowledged(infos, before):
-    """Node ids acknowledged by `info` messages [(wall time, Info)] received before `before`."""
-    ids = sorted({i.refId for t, i in infos if t <= before and i.refId > 0})
-    return set(ids[:-STM_SIZE]) if len(ids) > STM_SIZE else set()
+    """Node ids acknowledged as durable by `info` messages [(wall time, Info)] received before
+    `before`."""
+    seen = [i for t, i in infos if t <= before]
+    durable = int(max((fault.stat(i, "Memory/Durable_node_id", 0) for i in seen), default=0))
+    ids = {i.refId for i in seen if 0 < i.refId <= durable}
+    if durable > 0:
+        ids.add(durable)
+    return ids
 
 
 class FaultKillTest(unittest.TestCase):
@@ -85,7 +87,7 @@ class FaultKillTest(unittest.TestCase):
             self.assertTrue(node.alive(), "the node died before the kill:\n" + node.log()[-3000:])
             self.assertEqual(node.kill(signal.SIGKILL), -signal.SIGKILL)
             run = [(t, i) for t, i in self.infos if t >= run_start]
-            ack = acknowledged(run, killed_at - ACK_DELAY)
+            ack = acknowledged(run, killed_at)
             must_hold |= ack
             summary, ids = self.check_database(db, must_hold, "after kill %d" % (k + 1))
             rospy.loginfo("kill %d after %.1f s: %d nodes acknowledged in this run (%d in all), database holds %d "

@@ -332,6 +332,13 @@ void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nod
   stats.addStatistic(Statistics::kMemorySignatures_removed, static_cast<float>(u.transferred.size()));
   stats.addStatistic(Statistics::kKeypointDictionary_size, static_cast<float>(memory.vocabulary().size()));
   stats.addStatistic(Statistics::kTimingTotal, static_cast<float>(totalMs));
+  if (db && options.incremental) {
+    // What is safe on disk: every node up to this one survives a crash (the writer commits in
+    // order); a failed writer (disk full...) keeps new nodes in RAM only until it recovers.
+    const db::WriterStatus w = db->writerStatus();
+    stats.addStatistic(Statistics::kMemoryDurable_node_id, static_cast<float>(w.lastDurableNodeId));
+    stats.addStatistic(Statistics::kMemoryDatabase_write_failed, w.failed ? 1.0f : 0.0f);
+  }
   const Transform c = mapCorrection;
   stats.addStatistic(Statistics::kLoopOdom_correction_norm, static_cast<float>(c.getNorm()));
   stats.addStatistic(Statistics::kLoopOdom_correction_angle, static_cast<float>(c.getAngle() * 180.0 / M_PI));

@@ -3,12 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "common/TestData.h"
 #include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 
 namespace rtabmap {
@@ -189,6 +192,37 @@ TEST(Rtabmap, NextSessionStartsWithTheWorkingMemoryTheLastOneClosedWith) {
   slam.close();
   all.init({{"Rtabmap/DetectionRate", "0"}, {"Mem/InitWMWithAllNodes", "true"}}, path);
   EXPECT_EQ(all.workingMemory().size(), 12u);
+}
+
+// The statistics say which node is safe on disk: once a node has left STM its write commits in
+// the background; Memory/Durable_node_id reaches it, never a node still in STM, and the node it
+// names is in the database (read by another connection while the map is open).
+TEST(Rtabmap, StatisticsTellTheLastNodeSafeOnDisk) {
+  test::TempDir dir("rtabmap_slam_durable");
+  const std::string path = dir.file("rtabmap.db");
+  Rtabmap slam;
+  slam.init({{"Rtabmap/DetectionRate", "0"}, {"Mem/STMSize", "3"}}, path);
+  float durable = 0.0f;
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_TRUE(slam.process(frame(i + 1, i + 1.0), along(0.5 * i), smallCov()));
+    const auto& data = slam.statistics().data();
+    ASSERT_TRUE(data.count("Memory/Durable_node_id/"));
+    EXPECT_EQ(data.at("Memory/Database_write_failed/"), 0.0f);
+    durable = data.at("Memory/Durable_node_id/");
+    EXPECT_LE(durable, static_cast<float>(std::max(0, slam.lastNodeId() - 3))) << "a node still in STM cannot be on disk";
+  }
+  // The writer commits in the background: give it a moment, then the next update tells.
+  for (int i = 0; i < 50 && durable < 7.0f; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(slam.process(frame(11 + i, 11.0 + i), along(5.0 + 0.5 * i), smallCov()));
+    durable = slam.statistics().data().at("Memory/Durable_node_id/");
+  }
+  ASSERT_GE(durable, 7.0f);
+  db::Database::Options readOnly;
+  readOnly.readOnly = true;
+  db::Database reader(path, readOnly);
+  EXPECT_TRUE(reader.loadNode(static_cast<int>(durable), db::LoadOptions::nodeOnly()).has_value());
+  slam.close();
 }
 
 TEST(Rtabmap, GoalsByIdLabelAndPoseAreFollowedUntilReached) {

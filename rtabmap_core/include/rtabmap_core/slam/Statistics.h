@@ -60,6 +60,8 @@
   X(NeighborLinkRefining, Pts, )                    \
   X(Memory, Working_memory_size, )                  \
   X(Memory, Short_time_memory_size, )               \
+  X(Memory, Durable_node_id, )                      \
+  X(Memory, Database_write_failed, )                \
   X(Memory, Database_memory_used, MB)               \
   X(Memory, Similarity, )                           \
   X(Memory, Last_loop_closure_id, )                 \
