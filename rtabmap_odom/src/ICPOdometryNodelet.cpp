@@ -11,9 +11,8 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "OdometryNodelet.h"
-#include "rtabmap_conversions/LaserScanConversions.h"
-#include "rtabmap_conversions/PointCloudConversions.h"
 #include "rtabmap_odom/NodeParameters.h"
+#include "rtabmap_sync/FrameAssembly.h"
 
 namespace rtabmap_ros {
 
@@ -62,13 +61,8 @@ class ICPOdometryNodelet : public OdometryNodelet {
     const char* topic = d.scan ? "scan" : "scan_cloud";
     const rtabmap::Transform local = sensorPose(header.frame_id, header.stamp, error);
     if (local.isNull()) return std::nullopt;
-    std::string why;
-    std::optional<rtabmap::LaserScan> scan = d.scan ? rtabmap_conversions::laserScanFromMsg(*d.scan, local, &why)
-                                                    : rtabmap_conversions::laserScanFromCloudMsg(*d.scanCloud, local, &why);
-    if (!scan) {
-      if (error) *error = std::string(topic) + ": " + why;
-      return std::nullopt;
-    }
+    std::optional<rtabmap::LaserScan> scan = rtabmap_sync::syncedScan(d.scan, d.scanCloud, local, error);
+    if (!scan) return std::nullopt;
     if (scan->empty()) {
       if (error) *error = std::string(topic) + ": no valid point (every range NaN, infinite or out of limits)";
       return std::nullopt;

@@ -3,9 +3,7 @@
 // and/or laser scan placed on the robot through tf). Interface: RtabmapNodelet.h.
 #include "RtabmapNodelet.h"
 
-#include "rtabmap_conversions/LaserScanConversions.h"
 #include "rtabmap_conversions/OdometryConversions.h"
-#include "rtabmap_conversions/PointCloudConversions.h"
 #include "rtabmap_conversions/RGBDImageConversions.h"
 #include "rtabmap_conversions/TfLookup.h"
 #include "rtabmap_sync/FrameAssembly.h"
@@ -55,14 +53,9 @@ bool RtabmapNodelet::odometryOf(const rtabmap_sync::SyncedData& d, rtabmap::Tran
 std::optional<rtabmap::LaserScan> RtabmapNodelet::makeScan(const rtabmap_sync::SyncedData& d,
                                                            std::string* error) const {
   const std_msgs::Header& header = d.scan ? d.scan->header : d.scanCloud->header;
-  const char* topic = d.scan ? "scan" : "scan_cloud";
   const rtabmap::Transform local = sensorPose(header.frame_id, header.stamp, error);
   if (local.isNull()) return std::nullopt;
-  std::string why;
-  std::optional<rtabmap::LaserScan> scan = d.scan ? rtabmap_conversions::laserScanFromMsg(*d.scan, local, &why)
-                                                  : rtabmap_conversions::laserScanFromCloudMsg(*d.scanCloud, local, &why);
-  if (!scan) *error = std::string(topic) + ": " + why;
-  return scan;
+  return rtabmap_sync::syncedScan(d.scan, d.scanCloud, local, error);
 }
 
 std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync::SyncedData& d,

@@ -4,6 +4,8 @@
 
 #include "rtabmap_conversions/CameraInfoConversions.h"
 #include "rtabmap_conversions/ImageConversions.h"
+#include "rtabmap_conversions/LaserScanConversions.h"
+#include "rtabmap_conversions/PointCloudConversions.h"
 
 namespace rtabmap_sync {
 
@@ -118,6 +120,16 @@ bool checkRgbdImage(const rtabmap_ros::RGBDImage& msg, std::string* error) {
     return false;
   }
   return true;
+}
+
+std::optional<rtabmap::LaserScan> syncedScan(const sensor_msgs::LaserScanConstPtr& scan,
+                                             const sensor_msgs::PointCloud2ConstPtr& cloud,
+                                             const rtabmap::Transform& local, std::string* error) {
+  std::string why;
+  std::optional<rtabmap::LaserScan> out = scan ? rtabmap_conversions::laserScanFromMsg(*scan, local, &why)
+                                               : rtabmap_conversions::laserScanFromCloudMsg(*cloud, local, &why);
+  if (!out && error) *error = std::string(scan ? "scan" : "scan_cloud") + ": " + why;
+  return out;
 }
 
 }  // namespace rtabmap_sync

@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "rtabmap_core/common/Error.h"
+
 namespace rtabmap {
 
 Signature::Signature(int id, int mapId, int weight, double stamp, const std::string& label,
@@ -188,6 +190,18 @@ void addLinkBetween(Signature& from, Signature& to, const Link& link) {
 void removeLinkBetween(Signature& a, Signature& b, Link::Type type) {
   a.removeLink(b.id(), type);
   b.removeLink(a.id(), type);
+}
+
+const LaserScan& scanOf(Signature& node, std::string* problem) {
+  SensorData& data = node.sensorData();
+  if (data.laserScanRaw().empty() && !data.laserScanCompressed().empty()) {
+    try {
+      data.uncompress(false, false, true, false);
+    } catch (const Error& e) {
+      if (problem) *problem = std::string("its laser scan cannot be uncompressed: ") + e.what();
+    }
+  }
+  return data.laserScanRaw();
 }
 
 }  // namespace rtabmap

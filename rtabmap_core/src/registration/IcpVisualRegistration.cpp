@@ -2,27 +2,9 @@
 
 #include <chrono>
 
-#include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/memory/Signature.h"
 
 namespace rtabmap {
-
-namespace {
-
-// The node's scan, uncompressed into its sensor data if it only has the compressed one.
-const LaserScan& scanOf(Signature& node, std::string* problem) {
-  SensorData& data = node.sensorData();
-  if (data.laserScanRaw().empty() && !data.laserScanCompressed().empty()) {
-    try {
-      data.uncompress(false, false, true, false);
-    } catch (const Error& e) {
-      *problem = std::string("its laser scan cannot be uncompressed: ") + e.what();
-    }
-  }
-  return data.laserScanRaw();
-}
-
-}  // namespace
 
 IcpVisualRegistration::IcpVisualRegistration(const ParametersMap& parameters)
     : visual_(parameters), icp_(parameters) {}

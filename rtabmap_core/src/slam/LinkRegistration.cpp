@@ -32,18 +32,6 @@ LinkRegistration::LinkRegistration(const ParametersMap& parameters)
 
 LinkRegistration::~LinkRegistration() = default;
 
-const LaserScan& scanOf(Signature& node, std::string* problem) {
-  SensorData& data = node.sensorData();
-  if (data.laserScanRaw().empty() && !data.laserScanCompressed().empty()) {
-    try {
-      data.uncompress(false, false, true, false);
-    } catch (const Error& e) {
-      if (problem) *problem = std::string("its laser scan cannot be uncompressed: ") + e.what();
-    }
-  }
-  return data.laserScanRaw();
-}
-
 Transform LinkRegistration::compute(Signature& from, Signature& to, const Transform& guess, RegistrationInfo* info) const {
   RegistrationInfo scratch;
   RegistrationInfo& out = info ? *info : scratch;

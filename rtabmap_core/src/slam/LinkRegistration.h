@@ -47,10 +47,6 @@ class LinkRegistration {
   std::unique_ptr<IcpVisualRegistration> visualIcp_;
 };
 
-// The node's laser scan, uncompressed into its sensor data when only the compressed form is
-// there. Empty with *problem set if it cannot be uncompressed.
-const LaserScan& scanOf(Signature& node, std::string* problem = nullptr);
-
 // Information matrix (inverse covariance) of a link. Variances are floored at 1e-9 so a perfect
 // match never becomes an infinitely stiff constraint; diagonalOnly drops the correlations
 // (Mem/CovOffDiagIgnored).

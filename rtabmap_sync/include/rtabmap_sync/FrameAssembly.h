@@ -5,11 +5,15 @@
 #include <rtabmap_ros/RGBDImage.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include <optional>
 #include <string>
 
+#include "rtabmap_core/geometry/LaserScan.h"
 #include "rtabmap_core/geometry/SensorData.h"
+#include "rtabmap_core/geometry/Transform.h"
 
 namespace rtabmap_sync {
 
@@ -39,5 +43,11 @@ std::optional<rtabmap::SensorData> stereoFrame(const sensor_msgs::Image& left, c
 // An RGBDImage rgbdx_sync may bundle: an image (raw or compressed) and a valid camera_info.
 // Images are not decoded (the consumer does), so this stays cheap.
 bool checkRgbdImage(const rtabmap_ros::RGBDImage& msg, std::string* error = nullptr);
+
+// The laser input of a synchronised set: `scan` when there is one, else `cloud` (scan_cloud),
+// with `local` the sensor's pose on the robot. The error names the topic and what is wrong.
+std::optional<rtabmap::LaserScan> syncedScan(const sensor_msgs::LaserScanConstPtr& scan,
+                                             const sensor_msgs::PointCloud2ConstPtr& cloud,
+                                             const rtabmap::Transform& local, std::string* error = nullptr);
 
 }  // namespace rtabmap_sync

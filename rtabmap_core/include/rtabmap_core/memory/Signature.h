@@ -149,4 +149,9 @@ void addLinkBetween(Signature& from, Signature& to, const Link& link);
 // Removes the links of this type (kUndef: all) between the two nodes, on both ends.
 void removeLinkBetween(Signature& a, Signature& b, Link::Type type = Link::kUndef);
 
+// The node's laser scan, uncompressed into its sensor data when only the compressed form is
+// there (registration and proximity detection need the points). Empty, with *problem set when
+// given, if it cannot be uncompressed.
+const LaserScan& scanOf(Signature& node, std::string* problem = nullptr);
+
 }  // namespace rtabmap
