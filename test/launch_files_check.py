@@ -4,6 +4,7 @@ parser with the arguments users give, and the rtabmap node it would start is ins
 arguments, private parameters and remappings); nothing is started."""
 import glob
 import os
+import subprocess
 import unittest
 
 import rospkg
@@ -12,6 +13,7 @@ from roslaunch.config import load_config_default
 
 PKG = "rtabmap_ros"
 LAUNCH = os.path.join(rospkg.RosPack().get_path(PKG), "launch")
+CONFIG = os.path.join(rospkg.RosPack().get_path(PKG), "config")
 
 
 def load(name, **args):
@@ -31,6 +33,21 @@ def param(config, name):
 
 
 class LaunchFilesTest(unittest.TestCase):
+    def test_every_preset_is_accepted_by_the_core(self):
+        """config/*.ini: every key known, every value valid (the core refuses the file
+        otherwise, naming the line), and each demo launch file's config_path exists."""
+        presets = sorted(glob.glob(os.path.join(CONFIG, "*.ini")))
+        names = {os.path.basename(p) for p in presets}
+        self.assertTrue({"lidar2d.ini", "lidar3d.ini", "rgbd.ini", "stereo.ini"} <= names, names)
+        for p in presets:
+            r = subprocess.run(["rosrun", PKG, "rtabmap-dataset", "--config", p, "--params"],
+                               capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 0, p + ": " + r.stderr)
+            self.assertNotIn("error", r.stderr, p)
+        for f in sorted(glob.glob(os.path.join(LAUNCH, "demo_*.launch"))):
+            path = param(load(os.path.basename(f)), "/rtabmap/rtabmap/config_path")
+            self.assertTrue(path and os.path.isfile(path), "%s: config_path %s" % (f, path))
+
     def test_every_launch_file_parses_with_its_defaults(self):
         files = sorted(glob.glob(os.path.join(LAUNCH, "*.launch")))
         self.assertGreaterEqual(len(files), 3)
