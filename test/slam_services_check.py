@@ -366,7 +366,11 @@ class SlamServicesTest(unittest.TestCase):
 
     def check_load_database(self):
         nodes = self.node_count()
-        other = os.path.join(common.workdir(self, "slam_services_db_"), "other.db")
+        # load_database only opens files in database_directory (default: database_path's).
+        other = os.path.join(os.path.dirname(rospy.get_param("/rtabmap/database_path")),
+                             "slam_services_other_%d.db" % os.getpid())
+        for suffix in ("", "-wal", "-shm", "-journal"):
+            self.addCleanup(lambda p=other + suffix: os.path.exists(p) and os.remove(p))
         self.call("/load_database", LoadDatabase, other, True)
         self.assertEqual(self.node_count(), 0, "a new database has no node")
         self.assertTrue(os.path.exists(other))

@@ -6,6 +6,7 @@
 #include "rtabmap_conversions/OdometryConversions.h"
 #include "rtabmap_conversions/RGBDImageConversions.h"
 #include "rtabmap_conversions/TfLookup.h"
+#include "rtabmap_slam_node/OdomSensorSync.h"
 #include "rtabmap_sync/FrameAssembly.h"
 
 namespace rtabmap_ros {
@@ -17,6 +18,16 @@ rtabmap::Transform RtabmapNodelet::sensorPose(const std::string& sensorFrame, co
     return rtabmap::Transform();
   }
   return rtabmap_conversions::lookupTransform(*tfBuffer_, frameId_, sensorFrame, stamp, waitForTransform_, error);
+}
+
+rtabmap::Transform RtabmapNodelet::syncedSensorPose(const rtabmap_sync::SyncedData& d, const std::string& sensorFrame,
+                                                    const ros::Time& stamp, std::string* error) const {
+  const rtabmap::Transform local = sensorPose(sensorFrame, stamp, error);
+  if (!odomSensorSync_) return local;
+  // The odometry pose given to the core is the odom message's, or tf's at the data's stamp.
+  const ros::Time odomStamp = d.odom ? d.odom->header.stamp : d.stamp;
+  return rtabmap_slam_node::odomSyncedLocalTransform(*tfBuffer_, odomFrameId_, frameId_, local, odomStamp, stamp,
+                                                     waitForTransform_, error);
 }
 
 bool RtabmapNodelet::odometryOf(const rtabmap_sync::SyncedData& d, rtabmap::Transform* pose,
@@ -53,7 +64,7 @@ bool RtabmapNodelet::odometryOf(const rtabmap_sync::SyncedData& d, rtabmap::Tran
 std::optional<rtabmap::LaserScan> RtabmapNodelet::makeScan(const rtabmap_sync::SyncedData& d,
                                                            std::string* error) const {
   const std_msgs::Header& header = d.scan ? d.scan->header : d.scanCloud->header;
-  const rtabmap::Transform local = sensorPose(header.frame_id, header.stamp, error);
+  const rtabmap::Transform local = syncedSensorPose(d, header.frame_id, header.stamp, error);
   if (local.isNull()) return std::nullopt;
   return rtabmap_sync::syncedScan(d.scan, d.scanCloud, local, error);
 }
@@ -64,7 +75,7 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
   if (d.rgb && d.depth && d.rgbCameraInfo) {
     frame = rtabmap_sync::rgbdFrame(*d.rgb, *d.depth, *d.rgbCameraInfo, {}, error);
     if (!frame) return std::nullopt;
-    const rtabmap::Transform local = sensorPose(d.rgb->header.frame_id, d.rgb->header.stamp, error);
+    const rtabmap::Transform local = syncedSensorPose(d, d.rgb->header.frame_id, d.rgb->header.stamp, error);
     if (local.isNull()) return std::nullopt;
     std::vector<rtabmap::CameraModel> models = frame->cameraModels();
     for (rtabmap::CameraModel& m : models) m.setLocalTransform(local);
@@ -72,7 +83,7 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
   } else if (d.left && d.right && d.leftCameraInfo && d.rightCameraInfo) {
     frame = rtabmap_sync::stereoFrame(*d.left, *d.right, *d.leftCameraInfo, *d.rightCameraInfo, error);
     if (!frame) return std::nullopt;
-    const rtabmap::Transform local = sensorPose(d.left->header.frame_id, d.left->header.stamp, error);
+    const rtabmap::Transform local = syncedSensorPose(d, d.left->header.frame_id, d.left->header.stamp, error);
     if (local.isNull()) return std::nullopt;
     rtabmap::StereoCameraModel model = frame->stereoCameraModels().front();
     model.setLocalTransform(local);
@@ -82,7 +93,7 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
     return std::nullopt;
   } else if (d.rgbdImages.size() == 1) {
     const rtabmap_ros::RGBDImage& msg = *d.rgbdImages.front();
-    const rtabmap::Transform local = sensorPose(msg.header.frame_id, msg.header.stamp, error);
+    const rtabmap::Transform local = syncedSensorPose(d, msg.header.frame_id, msg.header.stamp, error);
     if (local.isNull()) return std::nullopt;
     std::string why;
     frame = rtabmap_conversions::rgbdImageFromMsg(msg, local, &why);

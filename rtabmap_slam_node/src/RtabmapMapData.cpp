@@ -1,5 +1,6 @@
 // rtabmap nodelet: the map for other nodes (RtabmapNodelet.h): mapData (incremental, or the
-// whole map on request), node data by id, nodes near a place, and the rviz marker views.
+// whole map on request), node data by id, nodes near a place, the rviz marker views and the 3D
+// maps (cloud_map, octomap_*).
 #include <visualization_msgs/MarkerArray.h>
 
 #include <set>
@@ -31,6 +32,24 @@ void RtabmapNodelet::publishLatestNodeData(const ros::Time& stamp) {
   }
   mapDataPub_.publish(rtabmap_conversions::mapDataToMsg(core_->optimizedPoses(), core_->allLinks(), nodes,
                                                         core_->mapCorrection(), mapHeader(stamp)));
+}
+
+rtabmap_slam_node::MapsUpdateSummary RtabmapNodelet::publishMaps(const ros::Time& stamp, bool force) {
+  if (!core_) return rtabmap_slam_node::MapsUpdateSummary();
+  return maps_.publish(core_->optimizedPoses(), [this](int id) { return localGridOf(id); }, mapHeader(stamp), force);
+}
+
+void RtabmapNodelet::onMapSubscriber() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  publishMaps(ros::Time::now(), true);
+}
+
+std::optional<rtabmap::LocalGrid> RtabmapNodelet::localGridOf(int nodeId) const {
+  rtabmap::NodeDataParts gridOnly;
+  gridOnly.images = gridOnly.scan = gridOnly.userData = false;
+  std::optional<rtabmap::Signature> s = core_->node(nodeId, gridOnly);  // from RAM or the database
+  if (!s) return std::nullopt;
+  return s->sensorData().localGrid();
 }
 
 rtabmap_ros::MapData RtabmapNodelet::mapDataOf(bool global, bool optimized, bool graphOnly,
@@ -75,6 +94,7 @@ bool RtabmapNodelet::onPublishMap(rtabmap_ros::PublishMap::Request& req, rtabmap
   mapDataPub_.publish(mapDataOf(req.global, req.optimized, req.graphOnly, now));
   publishMarkers(now, true);
   if (gridMapPub_.getNumSubscribers() > 0) publishGrid(now);
+  publishMaps(now, true);
   return true;
 }
 

@@ -22,6 +22,7 @@
 #include "rtabmap_conversions/GraphConversions.h"
 #include "rtabmap_conversions/InfoConversions.h"
 #include "rtabmap_conversions/TransformConversions.h"
+#include "rtabmap_slam_node/ServicePaths.h"
 #include "rtabmap_odom/NodeParameters.h"
 #include "rtabmap_odom/PrivateParameters.h"
 
@@ -31,11 +32,11 @@ namespace {
 
 // The node's own private parameters (the others without '/' are warned as unknown).
 const std::vector<std::string> kNodeParameters = {
-    "frame_id", "odom_frame_id", "map_frame_id", "database_path", "config_path", "publish_tf", "tf_delay",
+    "frame_id", "odom_frame_id", "map_frame_id", "database_path", "database_directory", "config_path", "publish_tf", "tf_delay",
     "tf_tolerance", "wait_for_transform_duration", "odom_tf_linear_variance", "odom_tf_angular_variance",
-    "odom_covariance_cumulative", "subscribe_depth", "subscribe_rgb", "subscribe_rgbd", "subscribe_stereo",
-    "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom", "subscribe_odom_info", "subscribe_user_data",
-    "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size"};
+    "odom_covariance_cumulative", "odom_sensor_sync", "subscribe_depth", "subscribe_rgb", "subscribe_rgbd",
+    "subscribe_stereo", "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom", "subscribe_odom_info",
+    "subscribe_user_data", "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size"};
 
 }  // namespace
 
@@ -104,6 +105,12 @@ void RtabmapNodelet::readNodeParameters(ros::NodeHandle& pnh) {
   pnh.param("map_frame_id", mapFrameId_, mapFrameId_);
   pnh.param("database_path", databasePath_, databasePath_);
   databasePath_ = rtabmap_slam_node::expandHome(databasePath_);
+  std::string directory, why;
+  pnh.param("database_directory", directory, directory);
+  serviceDirectory_ = rtabmap_slam_node::serviceDirectory(directory, databasePath_, &why).value_or("");
+  if (serviceDirectory_.empty()) {
+    NODELET_WARN("%s: database_directory: %s; load_database will refuse every path.", getName().c_str(), why.c_str());
+  }
   pnh.param("publish_tf", publishTf_, publishTf_);
   pnh.param("tf_delay", tfDelay_, tfDelay_);
   pnh.param("tf_tolerance", tfTolerance_, tfTolerance_);
@@ -111,6 +118,7 @@ void RtabmapNodelet::readNodeParameters(ros::NodeHandle& pnh) {
   pnh.param("odom_tf_linear_variance", odomTfLinearVariance_, odomTfLinearVariance_);
   pnh.param("odom_tf_angular_variance", odomTfAngularVariance_, odomTfAngularVariance_);
   pnh.param("odom_covariance_cumulative", odomCovarianceCumulative_, odomCovarianceCumulative_);
+  pnh.param("odom_sensor_sync", odomSensorSync_, odomSensorSync_);
   if (!(tfDelay_ > 0.0)) {
     NODELET_WARN("%s: tf_delay must be > 0 (got %g); using 0.05 s.", getName().c_str(), tfDelay_);
     tfDelay_ = 0.05;
@@ -183,7 +191,9 @@ void RtabmapNodelet::advertise(ros::NodeHandle& nh) {
   // Map views and data
   labelsPub_ = nh.advertise<visualization_msgs::MarkerArray>("labels", 1, true);
   graphMarkersPub_ = nh.advertise<visualization_msgs::MarkerArray>("graph_markers", 1, true);
-  mapDataPub_ = nh.advertise<rtabmap_ros::MapData>("mapData", 1);
+  // A few messages of margin: a map_assembler that misses one misses that node's grid for good.
+  mapDataPub_ = nh.advertise<rtabmap_ros::MapData>("mapData", 10);
+  maps_.advertise(nh, false, [this] { onMapSubscriber(); });
   services_.push_back(nh.advertiseService("get_map_data", &RtabmapNodelet::onGetMapData, this));
   services_.push_back(nh.advertiseService("publish_map", &RtabmapNodelet::onPublishMap, this));
   services_.push_back(nh.advertiseService("get_node_data", &RtabmapNodelet::onGetNodeData, this));
@@ -204,6 +214,13 @@ bool RtabmapNodelet::startCore(bool mapping) {
     return false;
   }
   core_ = std::move(core);
+  try {
+    maps_.setParameters(parameters);  // also drops the maps of the previous core
+  } catch (const std::exception& e) {
+    // The core accepted them, so this should not happen: the maps keep their options.
+    NODELET_ERROR("%s: 3D maps: %s", getName().c_str(), e.what());
+    maps_.clear();
+  }
   mapping_ = mapping;
   previousOdomCovariance_.reset();
   publishGoalPath(ros::Time::now());
@@ -265,7 +282,12 @@ void RtabmapNodelet::publishUpdate(const ros::Time& stamp) {
   std_msgs::Header header;
   header.stamp = stamp;
   header.frame_id = mapFrameId_;
-  if (infoPub_.getNumSubscribers() > 0) infoPub_.publish(rtabmap_conversions::statisticsToMsg(core_->statistics(), header));
+  const rtabmap_slam_node::MapsUpdateSummary maps = publishMaps(stamp);
+  if (infoPub_.getNumSubscribers() > 0) {
+    rtabmap_ros::Info info = rtabmap_conversions::statisticsToMsg(core_->statistics(), header);
+    maps_.addStatistics(maps, info);
+    infoPub_.publish(info);
+  }
   if (mapGraphPub_.getNumSubscribers() > 0) {
     mapGraphPub_.publish(rtabmap_conversions::mapGraphToMsg(core_->optimizedPoses(), core_->allLinks(),
                                                             core_->mapCorrection(), header));

@@ -12,10 +12,16 @@
 //   frame_id (base_link), odom_frame_id (odom), map_frame_id (map)
 //   database_path (~/.ros/rtabmap.db; "" = no database), config_path (INI of core parameters;
 //     private Group/Name parameters override it)
+//   database_directory ("" = the directory of database_path): the only directory whose files
+//     a service may open, create or delete (load_database); "..", paths elsewhere and symlinks
+//     out of it are refused (rtabmap_slam_node/ServicePaths.h)
 //   publish_tf (true), tf_delay (0.05 s: period of the map -> odom timer), tf_tolerance
 //     (0.1 s: map -> odom is stamped now + tf_tolerance so lookups at slightly later stamps work)
 //   wait_for_transform_duration (0.2 s)
 //   odom_tf_linear_variance, odom_tf_angular_variance (0.001): covariance of odometry from tf
+//   odom_sensor_sync (false): correct each sensor's pose on the robot by the odometry's
+//     motion (through tf, odom_frame_id fixed) between the odometry's stamp and the sensor's,
+//     for approx_sync inputs on a moving robot (rtabmap_slam_node/OdomSensorSync.h)
 //   odom_covariance_cumulative (false): the odom topic's covariance grows from the start
 //     (wheel odometry) rather than being the last motion's (rtabmap's odometry); see
 //     rtabmap_slam_node/SlamNodeSupport.h motionCovariance()
@@ -36,6 +42,22 @@
 //     SPHERE_LIST, links as one LINE_LIST per kind: neighbor, loop_closure, proximity, user);
 //   mapData (rtabmap_ros/MapData, only when subscribed): after each update, the graph and the
 //     data of the node that update added (classic incremental map; publish_map sends it all).
+//   3D maps (latched; each maintained only while one of its topics has a subscriber, built
+//     from the whole map when one appears, then updated incrementally with the optimised
+//     poses and published again when an update changed it; Grid/* and GridGlobal/*
+//     parameters; rtabmap_slam_node/MapsAssembler.h):
+//     cloud_map (sensor_msgs/PointCloud2: every node's obstacle and ground cells, voxel
+//     filtered at Grid/CellSize, rgb when the nodes had colour), octomap_binary and
+//     octomap_full (rtabmap_ros/OctoMap: octomap_msgs/Octomap's fields, "OcTree" occupancy /
+//     "ColorOcTree"), octomap_occupied_space, octomap_obstacles, octomap_ground,
+//     octomap_empty_space (PointCloud2 of voxel centres at GridGlobal/OctoMapTreeDepth),
+//     occupied_cells_vis_array (visualization_msgs/MarkerArray: occupied voxels as cubes, as
+//     octomap_server names it, for rviz without the octomap plugin), octomap_grid
+//     (nav_msgs/OccupancyGrid: the octomap projected on the floor). A real 3D octomap needs 3D
+//     local grids (Grid/3D with Grid/Sensor 1 or 2); from 2D scans it is one flat layer. info
+//     carries Maps/Assembling_updates/ (updates that assembled a 3D map since start: 0 while
+//     nobody listened), Maps/Grids_fetched/, Maps/Cloud_nodes/, Maps/OctoMap_nodes/,
+//     Maps/OctoMap_rebuilt/ and Maps/Time/ms of the update.
 // Services: reset, pause, resume, trigger_new_map, backup, set_mode_localization,
 //   set_mode_mapping (std_srvs/Empty), get_map (nav_msgs/GetMap), set_label
 //   (rtabmap_ros/SetLabel), list_labels (rtabmap_ros/ListLabels), remove_label
@@ -56,7 +78,9 @@
 //   update_parameters (std_srvs/Empty: re-reads config_path and the private Group/Name
 //   parameters and restarts the core on the same database, in the same mode unless
 //   Mem/IncrementalMemory is among them; a new session starts, as after backup), load_database
-//   (rtabmap_ros/LoadDatabase: closes the map, opens database_path, clear = delete it first).
+//   (rtabmap_ros/LoadDatabase: closes the map, opens database_path, clear = delete it first;
+//   database_path relative to database_directory or inside it, else refused before anything
+//   is closed or deleted).
 // A request that cannot be served (no core, unknown node or label, bad values) answers false
 // with a warning saying why.
 #include <geometry_msgs/PoseStamped.h>
@@ -88,6 +112,7 @@
 #include <string>
 #include <vector>
 
+#include "MapsPublisher.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 #include "rtabmap_slam_node/SlamNodeSupport.h"
 #include "rtabmap_sync/DataSubscriber.h"
@@ -118,6 +143,10 @@ class RtabmapNodelet : public nodelet::Nodelet {
   std::optional<rtabmap::SensorData> makeFrame(const rtabmap_sync::SyncedData& d, std::string* error) const;
   std::optional<rtabmap::LaserScan> makeScan(const rtabmap_sync::SyncedData& d, std::string* error) const;
   rtabmap::Transform sensorPose(const std::string& sensorFrame, const ros::Time& stamp, std::string* error) const;
+  // sensorPose(), moved by the odometry between the data's odometry stamp and the sensor's
+  // stamp when odom_sensor_sync is on.
+  rtabmap::Transform syncedSensorPose(const rtabmap_sync::SyncedData& d, const std::string& sensorFrame,
+                                      const ros::Time& stamp, std::string* error) const;
   void publishUpdate(const ros::Time& stamp);
   void publishGrid(const ros::Time& stamp);
   void onTfTimer(const ros::WallTimerEvent&);
@@ -162,6 +191,11 @@ class RtabmapNodelet : public nodelet::Nodelet {
   bool onGetMapData(rtabmap_ros::GetMap::Request& req, rtabmap_ros::GetMap::Response& res);
   bool onPublishMap(rtabmap_ros::PublishMap::Request& req, rtabmap_ros::PublishMap::Response&);
   bool onGetNodeData(rtabmap_ros::GetNodeData::Request& req, rtabmap_ros::GetNodeData::Response& res);
+  // The 3D maps (MapsPublisher.h) of the current map, for their listeners; after an update,
+  // and at once for a new listener.
+  rtabmap_slam_node::MapsUpdateSummary publishMaps(const ros::Time& stamp, bool force = false);
+  void onMapSubscriber();
+  std::optional<rtabmap::LocalGrid> localGridOf(int nodeId) const;
   // False with a warning naming the service when there is no core.
   bool haveCore(const char* service);
   std_msgs::Header mapHeader(const ros::Time& stamp) const;
@@ -170,6 +204,7 @@ class RtabmapNodelet : public nodelet::Nodelet {
   std::string odomFrameId_ = "odom";
   std::string mapFrameId_ = "map";
   std::string databasePath_ = "~/.ros/rtabmap.db";
+  std::string serviceDirectory_;  // canonical database_directory; "" = it did not exist
   bool publishTf_ = true;
   double tfDelay_ = 0.05;
   double tfTolerance_ = 0.1;
@@ -177,6 +212,7 @@ class RtabmapNodelet : public nodelet::Nodelet {
   double odomTfLinearVariance_ = 0.001;
   double odomTfAngularVariance_ = 0.001;
   bool odomCovarianceCumulative_ = false;
+  bool odomSensorSync_ = false;
   rtabmap::ParametersMap parameters_;  // core parameters (INI + private), without the mode
 
   std::mutex mutex_;  // the core and the state below: data callbacks vs services
@@ -195,6 +231,7 @@ class RtabmapNodelet : public nodelet::Nodelet {
   ros::Publisher infoPub_, mapGraphPub_, gridMapPub_, localizationPosePub_;
   ros::Publisher mapPathPub_, globalPathPub_, globalPathNodesPub_, goalReachedPub_;
   ros::Publisher labelsPub_, graphMarkersPub_, mapDataPub_;
+  MapsPublisher maps_;
   ros::Subscriber goalSub_, goalNodeSub_;
   bool goalPathShown_ = false;  // the last path published was not empty
   std::vector<ros::ServiceServer> services_;

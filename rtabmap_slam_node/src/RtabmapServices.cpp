@@ -6,6 +6,7 @@
 
 #include "RtabmapNodelet.h"
 #include "rtabmap_conversions/GraphConversions.h"
+#include "rtabmap_slam_node/ServicePaths.h"
 #include "rtabmap_slam_node/SlamNodeSupport.h"
 
 namespace rtabmap_ros {
@@ -209,19 +210,25 @@ bool RtabmapNodelet::onUpdateParameters(std_srvs::Empty::Request&, std_srvs::Emp
 
 bool RtabmapNodelet::onLoadDatabase(rtabmap_ros::LoadDatabase::Request& req, rtabmap_ros::LoadDatabase::Response&) {
   std::lock_guard<std::mutex> lock(mutex_);
-  const std::string path = rtabmap_slam_node::expandHome(req.database_path);
-  if (path.empty()) {
-    NODELET_WARN("%s: load_database: database_path is empty.", getName().c_str());
+  // Anyone on the ROS graph can call this, and clear deletes the file: the path is confined to
+  // database_directory before anything is closed or deleted.
+  std::string why = "database_directory does not exist";
+  const std::optional<std::string> path =
+      serviceDirectory_.empty()
+          ? std::nullopt
+          : rtabmap_slam_node::confinedPath(rtabmap_slam_node::expandHome(req.database_path), serviceDirectory_, &why);
+  if (!path) {
+    NODELET_ERROR("%s: load_database refused: %s. The current database is kept.", getName().c_str(), why.c_str());
     return false;
   }
   const std::string previous = databasePath_;
   stopCore();  // the current map is saved before anything is deleted
-  if (req.clear && std::remove(path.c_str()) != 0 && errno != ENOENT) {
-    NODELET_WARN("%s: load_database: cannot delete %s: %s", getName().c_str(), path.c_str(), std::strerror(errno));
+  if (req.clear && std::remove(path->c_str()) != 0 && errno != ENOENT) {
+    NODELET_WARN("%s: load_database: cannot delete %s: %s", getName().c_str(), path->c_str(), std::strerror(errno));
   }
-  databasePath_ = path;
+  databasePath_ = *path;
   const bool ok = restartCore(previous, parameters_);
-  if (ok) NODELET_INFO("%s: load_database: now on \"%s\"%s.", getName().c_str(), path.c_str(), req.clear ? " (cleared)" : "");
+  if (ok) NODELET_INFO("%s: load_database: now on \"%s\"%s.", getName().c_str(), path->c_str(), req.clear ? " (cleared)" : "");
   return ok;
 }
 
