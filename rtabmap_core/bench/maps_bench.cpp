@@ -12,8 +12,9 @@
 // 7-Scenes RGB-D frames (../shared/data/rgbd_7scenes), with their KinectFusion poses:
 //  - local grid time per frame, 2D (projection + 2D ray tracing) and 3D (with and without 3D ray
 //    tracing), bytes per node;
-//  - incremental 2D update, OctoMap insertion rate with ray tracing (points per second), OctoMap
-//    rebuild after a loop closure; PNG previews of the 2D grid and the OctoMap projection.
+//  - incremental 2D update, OctoMap insertion rate with ray tracing (points per second, wall and
+//    process CPU time, median of 3 builds), OctoMap rebuild after a loop closure; PNG previews of
+//    the 2D grid and the OctoMap projection.
 // Human-readable lines first, then one JSON line with every figure.
 //
 // Usage: bench-maps_bench [--out DIR] [--data DIR] [--max-scans N] [--wheel-odometry]
@@ -61,6 +62,13 @@ double msSince(Clock::time_point t) { return std::chrono::duration<double, std::
 double cpuMs() {
   timespec ts;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+// CPU time of the whole process (ms), for work that may use more than one thread.
+double processCpuMs() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
@@ -395,6 +403,41 @@ Json benchLaser(const std::string& name, const std::string& path, const Settings
 
 // ------------------------------------------------------------------------------ 7-Scenes
 
+// One OctoMap built node after node (one update per node, as the SLAM loop does), then rebuilt
+// after a loop closure. Points = occupied voxels inserted (each the end of one ray when the
+// OctoMap casts them). CPU times are the process's: the ray casting may use a second thread.
+struct OctoMapRun {
+  std::shared_ptr<OctoMap> map;
+  long points = 0, free = 0, rays = 0;
+  double ms = 0.0, cpuMs = 0.0, rebuildMs = 0.0, rebuildCpuMs = 0.0;
+  int rebuilt = 0;
+};
+constexpr int kOctoMapRuns = 3;
+
+OctoMapRun insertOctoMap(const OctoMapOptions& o, const std::map<int, LocalGrid>& grids,
+                         const std::map<int, Transform>& poses) {
+  OctoMapRun r;
+  r.map = std::make_shared<OctoMap>(o);
+  std::map<int, Transform> g;
+  for (const auto& [id, lg] : grids) {
+    r.map->addLocalGrid(id, lg);
+    g[id] = poses.at(id);
+    const double c0 = processCpuMs();
+    const OctoMapUpdateSummary s = r.map->update(g);
+    r.cpuMs += processCpuMs() - c0;
+    r.points += s.pointsInserted;
+    r.free += s.freeVoxelUpdates;
+    r.rays += s.rayTracedPoints;
+    r.ms += s.timeMs;
+  }
+  const Clock::time_point t = Clock::now();
+  const double c0 = processCpuMs();
+  r.rebuilt = r.map->update(corrected(g, 0)).nodesInserted;
+  r.rebuildCpuMs = processCpuMs() - c0;
+  r.rebuildMs = msSince(t);
+  return r;
+}
+
 Json benchDepth(const std::string& path, const std::string& out) {
   Json j;
   std::printf("7-Scenes depth (%s)\n", path.c_str());
@@ -478,44 +521,34 @@ Json benchDepth(const std::string& path, const std::string& out) {
   saveGrid(grid.map(), out, "7scenes_grid", picture);
   j["grid2d"] = picture;
 
-  // OctoMap from the 3D grids without empty voxels: the global map casts the rays.
+  // OctoMap from the 3D grids without empty voxels (the global map casts the rays), and from
+  // the grids with their empty voxels; each built several times, medians reported.
   for (const char* variant : {"3d", "3d_raytraced"}) {
-    OctoMapOptions oo = OctoMapOptions::fromParameters({{"Grid/CellSize", "0.05"}, {"Grid/RayTracing", "true"},
-                                                        {"Grid/RangeMax", "4"}});
-    OctoMap octo(oo);
-    long pts = 0, free = 0, rays = 0;
-    double ms = 0.0, cpu = 0.0;
-    std::map<int, Transform> g;
-    for (const auto& [id, lg] : grids[variant]) {
-      octo.addLocalGrid(id, lg);
-      g[id] = poses.at(id);
-      const double c0 = cpuMs();
-      const OctoMapUpdateSummary s = octo.update(g);
-      cpu += cpuMs() - c0;
-      pts += s.pointsInserted;
-      free += s.freeVoxelUpdates;
-      rays += s.rayTracedPoints;
-      ms += s.timeMs;
+    const OctoMapOptions oo = OctoMapOptions::fromParameters(
+        {{"Grid/CellSize", "0.05"}, {"Grid/RayTracing", "true"}, {"Grid/RangeMax", "4"}});
+    OctoMapRun last;
+    Series rate, cpuRate, updatesCpuRate, msPerNode, rebuildMs, rebuildCpu;
+    for (int run = 0; run < kOctoMapRuns; ++run) {
+      last = insertOctoMap(oo, grids[variant], poses);
+      rate.add(last.points / (last.ms / 1000.0));
+      cpuRate.add(last.points / (last.cpuMs / 1000.0));
+      updatesCpuRate.add((last.points + last.free) / (last.cpuMs / 1000.0));
+      msPerNode.add(last.ms / std::max<size_t>(1, grids[variant].size()));
+      rebuildMs.add(last.rebuildMs);
+      rebuildCpu.add(last.rebuildCpuMs);
     }
-    // Points = occupied voxels inserted (each the end of one ray when the OctoMap casts them);
-    // the CPU rate is the one to compare with the goal on a shared machine.
-    const double rate = pts / (ms / 1000.0), cpuRate = pts / (cpu / 1000.0);
-    const double updatesCpuRate = (pts + free) / (cpu / 1000.0);
-    const Clock::time_point t = Clock::now();
-    const double c0 = cpuMs();
-    const OctoMapUpdateSummary rebuilt = octo.update(corrected(g, 0));
-    const double rebuildCpu = cpuMs() - c0;
-    const double rebuildMs = msSince(t);
+    const OctoMap& octo = *last.map;
     const std::string label = std::string(variant) == "3d" ? "rays cast by the OctoMap" : "empty voxels from the local grids";
-    std::printf("  OctoMap (%s): %.2f M points/s (cpu %.2f M points/s, %.2f M voxel updates/s; %ld points, %ld rays, "
-                "%ld free updates, %.1f ms/node); rebuild of %d nodes: %.0f ms (cpu %.0f); %zu leaves, %.1f MB\n",
-                label.c_str(), rate / 1e6, cpuRate / 1e6, updatesCpuRate / 1e6, pts, rays, free,
-                ms / std::max<size_t>(1, g.size()), rebuilt.nodesInserted, rebuildMs, rebuildCpu, octo.leafCount(),
-                octo.memoryUsed() / 1e6);
-    Json oj = {{"points_per_second", rate}, {"points_per_cpu_second", cpuRate},
-               {"voxel_updates_per_cpu_second", updatesCpuRate}, {"points", pts}, {"rays", rays},
-               {"free_updates", free}, {"ms_per_node", ms / std::max<size_t>(1, g.size())},
-               {"rebuild_ms", rebuildMs}, {"rebuild_cpu_ms", rebuildCpu}, {"leaves", octo.leafCount()}, {"memory_bytes", octo.memoryUsed()}};
+    std::printf("  OctoMap (%s), median of %d: %.2f M points/s (cpu %.2f M points/s, %.2f M voxel updates/s; %ld points, "
+                "%ld rays, %ld free updates, %.1f ms/node); rebuild of %d nodes: %.0f ms (cpu %.0f); %zu leaves, %.1f MB\n",
+                label.c_str(), kOctoMapRuns, rate.median() / 1e6, cpuRate.median() / 1e6, updatesCpuRate.median() / 1e6,
+                last.points, last.rays, last.free, msPerNode.median(), last.rebuilt, rebuildMs.median(),
+                rebuildCpu.median(), octo.leafCount(), octo.memoryUsed() / 1e6);
+    Json oj = {{"points_per_second", rate.median()}, {"points_per_cpu_second", cpuRate.median()},
+               {"voxel_updates_per_cpu_second", updatesCpuRate.median()}, {"points_per_cpu_second_runs", cpuRate.v},
+               {"points", last.points}, {"rays", last.rays}, {"free_updates", last.free},
+               {"ms_per_node", msPerNode.median()}, {"rebuild_ms", rebuildMs.median()},
+               {"rebuild_cpu_ms", rebuildCpu.median()}, {"leaves", octo.leafCount()}, {"memory_bytes", octo.memoryUsed()}};
     if (std::string(variant) == "3d") {
       const GridMap proj = octo.projection2D(-1.5f, 0.3f);  // heights relative to the first camera
       if (!proj.empty()) {

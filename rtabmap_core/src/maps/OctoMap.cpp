@@ -61,6 +61,7 @@ class OctoMap::Impl {
   std::set<int> replaced;
   std::map<int, Transform> assembled;
   maps_detail::RayCaster caster;
+  maps_detail::OctreeBatch batch;
   // Buffers reused between nodes.
   std::vector<maps_detail::VoxelUpdate> updates;
   std::vector<octomap::OcTreeKey> occupied, free;
@@ -126,7 +127,7 @@ class OctoMap::Impl {
       u.key = k;
       updates.push_back(u);
     }
-    maps_detail::OctreeBatch(*tree).apply(updates, tree->getProbHitLog(), tree->getProbMissLog());
+    batch.apply(*tree, updates, tree->getProbHitLog(), tree->getProbMissLog());
     long points = 0, freeUpdates = 0;
     for (const maps_detail::VoxelUpdate& u : updates) {
       if (u.kind == maps_detail::VoxelUpdate::kFree) {
