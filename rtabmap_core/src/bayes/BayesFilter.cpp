@@ -1,7 +1,9 @@
 #include "rtabmap_core/bayes/BayesFilter.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,12 +16,36 @@ double elapsedMs(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
 }
 
-std::set<int> keysWithoutVirtual(const std::map<int, float>& m) {
-  std::set<int> keys;
-  for (const auto& [id, value] : m) {
-    if (id != kVirtualPlace) keys.insert(keys.end(), id);
+// The location ids of a sorted flat likelihood (after the virtual place).
+std::vector<int> hypothesisIds(const Scores& likelihood) {
+  std::vector<int> ids;
+  ids.reserve(likelihood.size());
+  for (const auto& [id, value] : likelihood) {
+    (void)value;
+    if (id != kVirtualPlace) ids.push_back(id);
   }
-  return keys;
+  return ids;
+}
+
+void checkLikelihood(const Scores& likelihood) {
+  if (likelihood.empty() || likelihood.front().first != kVirtualPlace) {
+    throw std::invalid_argument("BayesFilter::update: the likelihood has no virtual-place (new place) entry");
+  }
+  int previous = kVirtualPlace;
+  for (size_t i = 0; i < likelihood.size(); ++i) {
+    const auto& [id, value] = likelihood[i];
+    if (i > 0 && id <= previous) {
+      throw std::invalid_argument("BayesFilter::updateScores: the likelihood is not sorted by id (at " +
+                                  std::to_string(id) + ")");
+    }
+    previous = id;
+    if (!std::isfinite(value) || value < 0.0f) {
+      std::ostringstream msg;
+      msg << "BayesFilter::update: likelihood of location " << id << " is " << value
+          << " (must be finite and >= 0)";
+      throw std::invalid_argument(msg.str());
+    }
+  }
 }
 
 }  // namespace
@@ -70,8 +96,22 @@ BayesFilter::BayesFilter(const BayesFilterOptions& options) : options_(options) 
 void BayesFilter::reset() {
   posterior_.clear();
   prior_.clear();
+  previousHypotheses_.clear();
   rows_.clear();
   summary_ = BayesFilterSummary();
+  priorMapValid_ = posteriorMapValid_ = false;
+}
+
+const std::map<int, float>& BayesFilter::prior() const {
+  if (!priorMapValid_) priorMap_ = toMap(prior_);
+  priorMapValid_ = true;
+  return priorMap_;
+}
+
+const std::map<int, float>& BayesFilter::posterior() const {
+  if (!posteriorMapValid_) posteriorMap_ = toMap(posterior_);
+  posteriorMapValid_ = true;
+  return posteriorMap_;
 }
 
 void BayesFilter::invalidateNeighborhood(const std::set<int>& ids, const NeighborsFn& neighbors) {
@@ -89,26 +129,25 @@ void BayesFilter::invalidateNeighborhood(const std::set<int>& ids, const Neighbo
 // A row is stale when the hypothesis set changed within its reach: a location entered the set
 // near it (found through the graph from the new location), or a location of the row left the
 // set (found in the row itself: the departed location may not be in the graph any more).
-void BayesFilter::dropStaleRows(const std::set<int>& added, const std::set<int>& removed,
-                                const NeighborsFn& neighbors) {
-  for (int id : removed) rows_.erase(id);
+void BayesFilter::dropStaleRows(const std::vector<int>& hypotheses, const NeighborsFn& neighbors) {
+  std::vector<int> added, removed;
+  std::set_difference(hypotheses.begin(), hypotheses.end(), previousHypotheses_.begin(), previousHypotheses_.end(),
+                      std::back_inserter(added));
+  std::set_difference(previousHypotheses_.begin(), previousHypotheses_.end(), hypotheses.begin(), hypotheses.end(),
+                      std::back_inserter(removed));
   if (!removed.empty()) {
+    const IdPositions gone(removed);
+    for (int id : removed) rows_.erase(id);
     for (auto it = rows_.begin(); it != rows_.end();) {
-      bool stale = false;
-      for (const auto& [to, p] : it->second) {
-        (void)p;
-        if (removed.count(to)) {
-          stale = true;
-          break;
-        }
-      }
+      const bool stale = std::any_of(it->second.begin(), it->second.end(),
+                                     [&gone](const std::pair<int, float>& entry) { return gone.contains(entry.first); });
       it = stale ? rows_.erase(it) : std::next(it);
     }
   }
-  invalidateNeighborhood(added, neighbors);
+  invalidateNeighborhood(std::set<int>(added.begin(), added.end()), neighbors);
 }
 
-const BayesFilter::Row& BayesFilter::transitionRow(int from, const std::set<int>& hypotheses,
+const BayesFilter::Row& BayesFilter::transitionRow(int from, const IdPositions& hypotheses,
                                                    const NeighborsFn& neighbors) {
   auto cached = rows_.find(from);
   if (cached != rows_.end()) return cached->second;
@@ -118,7 +157,7 @@ const BayesFilter::Row& BayesFilter::transitionRow(int from, const std::set<int>
   near[from] = 0;  // the location itself, whatever the graph says
   double sum = 0.0;
   for (const auto& [id, depth] : near) {
-    if (!hypotheses.count(id) || depth < 0 || depth > options_.maxNeighborDepth()) continue;
+    if (!hypotheses.contains(id) || depth < 0 || depth > options_.maxNeighborDepth()) continue;
     float p = options_.predictionLC[static_cast<size_t>(depth) + 1];
     if (p <= 0.0f) continue;
     row.emplace_back(id, p);
@@ -131,30 +170,37 @@ const BayesFilter::Row& BayesFilter::transitionRow(int from, const std::set<int>
   return rows_.emplace(from, std::move(row)).first->second;
 }
 
-std::map<int, float> BayesFilter::predict(const std::set<int>& hypotheses, const NeighborsFn& neighbors) {
-  std::map<int, double> prior;
-  prior[kVirtualPlace] = 0.0;
-  for (int id : hypotheses) prior.emplace_hint(prior.end(), id, 0.0);
+// The prior over [virtual place, hypotheses...]: O(WM) for the virtual place's uniform spread,
+// O(WM x neighbourhood) for the rows; every sum is made in the order of the map version (ids
+// ascending), so the values are the same to the last bit.
+Scores BayesFilter::predict(const std::vector<int>& hypotheses, const NeighborsFn& neighbors) {
+  const IdPositions position(hypotheses);
+  std::vector<double> prior(hypotheses.size() + 1, 0.0);  // [0]: the virtual place
 
   // Previous posterior; the first update starts from "new place" with certainty.
-  std::map<int, float> previous = posterior_;
-  if (previous.empty()) previous[kVirtualPlace] = 1.0f;
+  const Scores start{{kVirtualPlace, 1.0f}};
+  const Scores& previous = posterior_.empty() ? start : posterior_;
 
-  const double pVirtual = previous.count(kVirtualPlace) ? previous.at(kVirtualPlace) : 0.0;
-  prior[kVirtualPlace] += pVirtual * options_.virtualPlacePrior;
+  const double pVirtual = previous.front().first == kVirtualPlace ? previous.front().second : 0.0;
+  prior[0] += pVirtual * options_.virtualPlacePrior;
   if (!hypotheses.empty()) {
     const double spread = pVirtual * (1.0 - options_.virtualPlacePrior) / hypotheses.size();
-    for (int id : hypotheses) prior[id] += spread;
+    for (size_t i = 1; i < prior.size(); ++i) prior[i] += spread;
   }
   for (const auto& [from, p] : previous) {
     // Locations that left the hypothesis set (moved to LTM, merged, in STM again) take their
     // probability with them; the normalisation of the posterior accounts for it.
-    if (from == kVirtualPlace || p <= 0.0f || !hypotheses.count(from)) continue;
-    prior[kVirtualPlace] += p * options_.predictionLC[0];
-    for (const auto& [to, t] : transitionRow(from, hypotheses, neighbors)) prior[to] += p * t;
+    if (from == kVirtualPlace || p <= 0.0f || !position.contains(from)) continue;
+    prior[0] += p * options_.predictionLC[0];
+    for (const auto& [to, t] : transitionRow(from, position, neighbors)) {
+      const int k = position.find(to);  // always found: rows with a departed location were dropped
+      if (k >= 0) prior[static_cast<size_t>(k) + 1] += p * t;
+    }
   }
-  std::map<int, float> result;
-  for (const auto& [id, p] : prior) result.emplace_hint(result.end(), id, static_cast<float>(p));
+  Scores result;
+  result.reserve(prior.size());
+  result.emplace_back(kVirtualPlace, static_cast<float>(prior[0]));
+  for (size_t i = 0; i < hypotheses.size(); ++i) result.emplace_back(hypotheses[i], static_cast<float>(prior[i + 1]));
   return result;
 }
 
@@ -163,37 +209,34 @@ const std::map<int, float>& BayesFilter::update(const std::map<int, float>& like
   if (!likelihood.count(kVirtualPlace)) {
     throw std::invalid_argument("BayesFilter::update: the likelihood has no virtual-place (new place) entry");
   }
-  for (const auto& [id, value] : likelihood) {
-    if (!std::isfinite(value) || value < 0.0f) {
-      std::ostringstream msg;
-      msg << "BayesFilter::update: likelihood of location " << id << " is " << value
-          << " (must be finite and >= 0)";
-      throw std::invalid_argument(msg.str());
-    }
-  }
+  updateScores(toScores(likelihood), neighbors);
+  return posterior();
+}
+
+const Scores& BayesFilter::updateScores(const Scores& likelihood, const NeighborsFn& neighbors) {
+  checkLikelihood(likelihood);
   summary_ = BayesFilterSummary();
   summary_.hypotheses = static_cast<int>(likelihood.size());
+  priorMapValid_ = posteriorMapValid_ = false;
   auto start = std::chrono::steady_clock::now();
 
-  const std::set<int> hypotheses = keysWithoutVirtual(likelihood);
+  std::vector<int> hypotheses = hypothesisIds(likelihood);
   if (options_.fullPredictionUpdate) {
     rows_.clear();
   } else {
-    const std::set<int> previous = keysWithoutVirtual(prior_);
-    std::set<int> added, removed;
-    for (int id : hypotheses) if (!previous.count(id)) added.insert(id);
-    for (int id : previous) if (!hypotheses.count(id)) removed.insert(id);
-    dropStaleRows(added, removed, neighbors);
+    dropStaleRows(hypotheses, neighbors);
   }
   prior_ = predict(hypotheses, neighbors);
+  previousHypotheses_ = std::move(hypotheses);
   summary_.predictionMs = elapsedMs(start);
 
   start = std::chrono::steady_clock::now();
-  std::map<int, float> posterior;
+  // prior_ and the likelihood have the same ids in the same order.
+  Scores posterior(likelihood.size());
   double sum = 0.0;
-  for (const auto& [id, l] : likelihood) {
-    const double p = static_cast<double>(l) * prior_.at(id);
-    posterior.emplace_hint(posterior.end(), id, static_cast<float>(p));
+  for (size_t i = 0; i < likelihood.size(); ++i) {
+    const double p = static_cast<double>(likelihood[i].second) * prior_[i].second;
+    posterior[i] = {likelihood[i].first, static_cast<float>(p)};
     sum += p;
   }
   if (sum > 0.0) {

@@ -8,6 +8,10 @@
 namespace rtabmap::bayes {
 
 std::map<int, float> adjustLikelihood(const std::map<int, float>& similarity) {
+  return toMap(adjustLikelihoodScores(toScores(similarity)));
+}
+
+Scores adjustLikelihoodScores(const Scores& similarity) {
   double sum = 0.0, sumSq = 0.0;
   int n = 0;
   for (const auto& [id, s] : similarity) {
@@ -20,7 +24,9 @@ std::map<int, float> adjustLikelihood(const std::map<int, float>& similarity) {
   const double variance = n ? std::max(0.0, sumSq / n - mean * mean) : 0.0;
   const double stdDev = std::sqrt(variance);
 
-  std::map<int, float> likelihood;
+  Scores likelihood;
+  likelihood.reserve(similarity.size() + 1);
+  likelihood.emplace_back(kVirtualPlace, 2.0f);  // set below
   bool someoneStandsOut = false;
   for (const auto& [id, s] : similarity) {
     if (id == kVirtualPlace) continue;
@@ -30,13 +36,13 @@ std::map<int, float> adjustLikelihood(const std::map<int, float>& similarity) {
       l = std::max(1.0f, static_cast<float>((s - stdDev) / mean));
       someoneStandsOut = true;
     }
-    likelihood.emplace_hint(likelihood.end(), id, l);
+    likelihood.emplace_back(id, l);
   }
   // Without a location standing out there is no evidence of a loop: the new place gets twice
   // the likelihood of any location (the original's value), which keeps the posterior of a flat
   // likelihood from drifting to the locations: its fixed point is p(new) = 0.90, so the
   // loop-closure probability stays at 0.098, under the default Rtabmap/LoopThr of 0.11.
-  likelihood[kVirtualPlace] = someoneStandsOut ? std::max(1.0f, static_cast<float>(mean / stdDev + 1.0)) : 2.0f;
+  likelihood.front().second = someoneStandsOut ? std::max(1.0f, static_cast<float>(mean / stdDev + 1.0)) : 2.0f;
   return likelihood;
 }
 
@@ -57,6 +63,10 @@ bool HypothesisOptions::IsValid(std::string* why) const {
 
 Hypothesis selectHypothesis(const std::map<int, float>& posterior, const HypothesisOptions& options,
                             float previousValue) {
+  return selectHypothesisScores(toScores(posterior), options, previousValue);
+}
+
+Hypothesis selectHypothesisScores(const Scores& posterior, const HypothesisOptions& options, float previousValue) {
   Hypothesis h;
   for (const auto& [id, p] : posterior) {
     // Ties go to the most recent location (largest id), like the original's reverse scan.
@@ -66,8 +76,8 @@ Hypothesis selectHypothesis(const std::map<int, float>& posterior, const Hypothe
     }
   }
   if (h.id == 0) return h;
-  auto virtualPlace = posterior.find(kVirtualPlace);
-  h.value = virtualPlace == posterior.end() ? 1.0f : 1.0f - virtualPlace->second;
+  const bool hasVirtual = !posterior.empty() && posterior.front().first == kVirtualPlace;
+  h.value = hasVirtual ? 1.0f - posterior.front().second : 1.0f;
   std::ostringstream why;
   if (posterior.size() <= 2) {
     // One candidate only: it takes all the loop-closure mass whatever it looks like.

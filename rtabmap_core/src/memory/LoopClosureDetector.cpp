@@ -75,15 +75,15 @@ void LoopClosureDetector::detect(int id, LoopClosureUpdate& u, bool keepPosterio
   if (!s || s->isBadSignature() || memory_.wm().empty()) return;
   const auto neighbors = [this](int node, int depth) { return memory_.neighbors(node, depth); };
   auto t = Clock::now();
-  const std::map<int, float> likelihood = bayes::adjustLikelihood(memory_.computeLikelihood(id));
+  const bayes::Scores likelihood = bayes::adjustLikelihoodScores(memory_.likelihoodScores(id));
   u.likelihoodMs = msSince(t);
   t = Clock::now();
-  const std::map<int, float>& posterior = filter_.update(likelihood, neighbors);
+  const bayes::Scores& posterior = filter_.updateScores(likelihood, neighbors);
   u.posteriorMs = msSince(t);
   t = Clock::now();
-  u.highest = bayes::selectHypothesis(posterior, options_.hypothesis, previousHypothesisValue_);
+  u.highest = bayes::selectHypothesisScores(posterior, options_.hypothesis, previousHypothesisValue_);
   previousHypothesisValue_ = u.highest.value;
-  if (keepPosterior) u.posterior = posterior;
+  if (keepPosterior) u.posterior = bayes::toMap(posterior);
   u.hypothesisMs = msSince(t);
 }
 

@@ -384,16 +384,22 @@ int Memory::removeFromVocabulary(int id, const std::multimap<int, int>& words) {
 }
 
 std::map<int, float> Memory::computeLikelihood(int id) const {
+  const auto scores = likelihoodScores(id);
+  return std::map<int, float>(scores.begin(), scores.end());
+}
+
+std::vector<std::pair<int, float>> Memory::likelihoodScores(int id) const {
   const Signature* s = signature(id);
   if (!s) throw std::out_of_range("Memory::computeLikelihood: location " + std::to_string(id) + " is not in RAM");
-  std::unordered_map<int, int> candidates;
+  std::vector<std::pair<int, int>> candidates;  // sorted by id, as wm_ is
+  candidates.reserve(wm_.size());
   for (const auto& [wmId, age] : wm_) {
     (void)age;
     const Signature& c = signatures_.at(wmId);
-    if (wmId != id && !c.isBadSignature()) candidates.emplace(wmId, static_cast<int>(c.getWords().size()));
+    if (wmId != id && !c.isBadSignature()) candidates.emplace_back(wmId, static_cast<int>(c.getWords().size()));
   }
-  return vocabulary::computeLikelihood(vocabulary_, s->getWords(), candidates,
-                                       static_cast<int>(signatures_.size()), options_.tfIdf);
+  return vocabulary::computeLikelihoodScores(vocabulary_, s->getWords(), candidates,
+                                             static_cast<int>(signatures_.size()), options_.tfIdf);
 }
 
 std::map<int, int> Memory::neighbors(int id, int maxDepth) const {

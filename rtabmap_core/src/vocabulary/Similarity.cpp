@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "rtabmap_core/bayes/Scores.h"
+
 namespace rtabmap::vocabulary {
 
 std::map<int, int> wordCounts(const std::multimap<int, int>& words) {
@@ -48,10 +50,22 @@ float similarity(const std::multimap<int, int>& wordsA, const std::multimap<int,
 std::map<int, float> computeLikelihood(const Vocabulary& vocabulary, const std::multimap<int, int>& newWords,
                                        const std::unordered_map<int, int>& candidates, int totalLocations,
                                        bool tfIdf) {
-  // Scores accumulate in a table reserved for every candidate (no rehash however many share a
-  // word); the cost is the references of the new location's words.
-  std::unordered_map<int, double> score;
-  score.reserve(candidates.size());
+  std::vector<std::pair<int, int>> sorted(candidates.begin(), candidates.end());
+  std::sort(sorted.begin(), sorted.end());
+  const auto scores = computeLikelihoodScores(vocabulary, newWords, sorted, totalLocations, tfIdf);
+  return std::map<int, float>(scores.begin(), scores.end());
+}
+
+std::vector<std::pair<int, float>> computeLikelihoodScores(const Vocabulary& vocabulary,
+                                                           const std::multimap<int, int>& newWords,
+                                                           const std::vector<std::pair<int, int>>& candidates,
+                                                           int totalLocations, bool tfIdf) {
+  // Scores accumulate in a flat array over the candidates, found by id in constant time; the
+  // cost is the references of the new location's words, plus one pass over the candidates.
+  std::vector<int> ids(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) ids[i] = candidates[i].first;
+  const bayes::IdPositions position(ids);
+  std::vector<double> score(candidates.size(), 0.0);
   const auto counts = wordCounts(newWords);
   const int newTotal = total(counts);
   for (const auto& [wordId, newCount] : counts) {
@@ -61,24 +75,22 @@ std::map<int, float> computeLikelihood(const Vocabulary& vocabulary, const std::
                                           static_cast<double>(w->references.size()))
                              : 0.0;
     for (const auto& [location, count] : w->references) {
-      auto c = candidates.find(location);
-      if (c == candidates.end() || c->second <= 0) continue;
+      const int k = position.find(location);
+      if (k < 0) continue;
+      const int words = candidates[static_cast<size_t>(k)].second;
+      if (words <= 0) continue;
       if (tfIdf) {
-        score[location] += (static_cast<double>(count) / c->second) * idf;
+        score[static_cast<size_t>(k)] += (static_cast<double>(count) / words) * idf;
       } else {
-        score[location] += std::min(count, newCount);  // pairs; divided below
+        score[static_cast<size_t>(k)] += std::min(count, newCount);  // pairs; divided below
       }
     }
   }
-  // Every candidate gets a value: sorted ids make each insertion into the map constant time.
-  std::vector<std::pair<int, int>> sorted(candidates.begin(), candidates.end());
-  std::sort(sorted.begin(), sorted.end());
-  std::map<int, float> likelihood;
-  for (const auto& [location, n] : sorted) {
-    auto s = score.find(location);
-    double v = s == score.end() ? 0.0 : s->second;
-    if (!tfIdf && v > 0.0) v /= std::max(newTotal, n);
-    likelihood.emplace_hint(likelihood.end(), location, static_cast<float>(std::max(0.0, v)));
+  std::vector<std::pair<int, float>> likelihood(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    double v = score[i];
+    if (!tfIdf && v > 0.0) v /= std::max(newTotal, candidates[i].second);
+    likelihood[i] = {candidates[i].first, static_cast<float>(std::max(0.0, v))};
   }
   return likelihood;
 }

@@ -10,22 +10,34 @@
 namespace rtabmap::vocabulary {
 namespace {
 
-// Binary descriptors searched with L2 kd-trees are expanded to floats: one float per bit (the
-// squared L2 distance is then the Hamming distance) or one per byte (Kp/ByteToFloat: 8x less
-// memory, distances only approximate Hamming).
-cv::Mat toIndexRows(const cv::Mat& descriptors, bool expandBinary, bool perByte) {
-  if (descriptors.type() == CV_32F || !expandBinary) return descriptors;
-  if (perByte) {
+// How descriptor rows are stored in an index.
+enum class Encoding {
+  kAsIs,           // float rows, or binary rows under the Hamming distance (LSH, linear)
+  kBitsAsBytes,    // binary rows under L2 kd-trees: one byte per bit, 0 or kBitValue
+  kBytesAsFloats,  // Kp/ByteToFloat: one float per byte (8x less memory, distances only approximate Hamming)
+};
+
+// A bit set is stored as 2, not 1: the kd-tree splits a leaf at the midpoint of two values in
+// the element type, (0 + 2) / 2 = 1 in bytes where (0 + 1) / 2 would truncate to 0. Every tree
+// quantity then scales by a power of two (distances and bounds by 4, means by 2), exactly, so
+// the trees and the search are those of the 0/1 floats the index used before, with 4x less
+// memory to walk (256 bytes a word instead of 1 KB: the search is bound by memory reads).
+constexpr uchar kBitValue = 2;
+constexpr float kBitDistanceScale = static_cast<float>(kBitValue * kBitValue);
+
+cv::Mat toIndexRows(const cv::Mat& descriptors, Encoding encoding) {
+  if (descriptors.type() == CV_32F || encoding == Encoding::kAsIs) return descriptors;
+  if (encoding == Encoding::kBytesAsFloats) {
     cv::Mat out;
     descriptors.convertTo(out, CV_32F);
     return out;
   }
-  cv::Mat out(descriptors.rows, descriptors.cols * 8, CV_32F);
+  cv::Mat out(descriptors.rows, descriptors.cols * 8, CV_8U);
   for (int r = 0; r < descriptors.rows; ++r) {
     const uchar* in = descriptors.ptr<uchar>(r);
-    float* o = out.ptr<float>(r);
+    uchar* o = out.ptr<uchar>(r);
     for (int c = 0; c < descriptors.cols; ++c) {
-      for (int b = 0; b < 8; ++b) o[c * 8 + b] = static_cast<float>((in[c] >> b) & 1);
+      for (int b = 0; b < 8; ++b) o[c * 8 + b] = ((in[c] >> b) & 1) ? kBitValue : 0;
     }
   }
   return out;
@@ -38,9 +50,11 @@ class FlannIndex : public Vocabulary::Index {
   using T = typename Distance::ElementType;
 
  public:
-  FlannIndex(flann::IndexParams params, int checks, bool squaredDistance, bool expandBinary, bool perByte)
-      : params_(std::move(params)), search_(checks), squared_(squaredDistance),
-        expandBinary_(expandBinary), perByte_(perByte) {
+  // squaredDistance: FLANN's distance is the square of the descriptors' one; else it is theirs
+  // times distanceScale.
+  FlannIndex(flann::IndexParams params, int checks, bool squaredDistance, Encoding encoding, float distanceScale = 1.f)
+      : params_(std::move(params)), search_(checks), squared_(squaredDistance), encoding_(encoding),
+        distanceScale_(distanceScale) {
     search_.cores = 1;
   }
 
@@ -74,7 +88,7 @@ class FlannIndex : public Vocabulary::Index {
   std::vector<NearestTwo> nearestTwo(const cv::Mat& queries) const override {
     std::vector<NearestTwo> result(queries.rows, NearestTwo{{{0, 0.f}, {0, 0.f}}});
     if (!index_ || pointOfWord_.empty() || queries.empty()) return result;
-    cv::Mat q = toIndexRows(queries, expandBinary_, perByte_);
+    cv::Mat q = toIndexRows(queries, encoding_);
     if (!q.isContinuous()) q = q.clone();
     flann::Matrix<T> query(reinterpret_cast<T*>(q.data), q.rows, q.cols);
     // One batch search into flat result matrices (no per-query vectors). FLANN skips removed
@@ -91,7 +105,7 @@ class FlannIndex : public Vocabulary::Index {
         const size_t point = indices[r * 2 + j];
         if (point >= wordOfPoint_.size() || wordOfPoint_[point] == 0) continue;  // none or removed
         const float d = static_cast<float>(dists[r * 2 + j]);
-        result[r][k++] = {wordOfPoint_[point], squared_ ? std::sqrt(std::max(0.f, d)) : d};
+        result[r][k++] = {wordOfPoint_[point], squared_ ? std::sqrt(std::max(0.f, d)) : d / distanceScale_};
       }
     }
     return result;
@@ -104,7 +118,7 @@ class FlannIndex : public Vocabulary::Index {
 
  private:
   flann::Matrix<T> store(const cv::Mat& descriptors, const std::vector<int>& wordIds) {
-    cv::Mat rows = toIndexRows(descriptors, expandBinary_, perByte_).clone();  // owned, continuous
+    cv::Mat rows = toIndexRows(descriptors, encoding_).clone();  // owned, continuous
     const size_t first = wordOfPoint_.size();
     for (size_t i = 0; i < wordIds.size(); ++i) {
       wordOfPoint_.push_back(wordIds[i]);
@@ -116,7 +130,9 @@ class FlannIndex : public Vocabulary::Index {
 
   flann::IndexParams params_;
   flann::SearchParams search_;
-  bool squared_, expandBinary_, perByte_;
+  bool squared_;
+  Encoding encoding_;
+  float distanceScale_;
   std::unique_ptr<flann::Index<Distance>> index_;
   std::vector<cv::Mat> chunks_;
   std::vector<int> wordOfPoint_;                  // FLANN point id -> word id (0 = removed)
@@ -132,23 +148,29 @@ std::unique_ptr<Vocabulary::Index> Vocabulary::Index::create(const VocabularyOpt
   const bool linear = options.nnStrategy == NNStrategy::kLinear || options.nnStrategy == NNStrategy::kBruteForce;
   if (binary && options.nnStrategy == NNStrategy::kLsh) {
     return std::make_unique<FlannIndex<flann::Hamming<unsigned char>>>(
-        flann::LshIndexParams(12, 20, 2), options.searchChecks, false, false, false);
+        flann::LshIndexParams(12, 20, 2), options.searchChecks, false, Encoding::kAsIs);
   }
   if (binary && linear) {
     return std::make_unique<FlannIndex<flann::Hamming<unsigned char>>>(
-        flann::LinearIndexParams(), flann::FLANN_CHECKS_UNLIMITED, false, false, false);
+        flann::LinearIndexParams(), flann::FLANN_CHECKS_UNLIMITED, false, Encoding::kAsIs);
   }
   if (linear) {
     return std::make_unique<FlannIndex<flann::L2<float>>>(
-        flann::LinearIndexParams(), flann::FLANN_CHECKS_UNLIMITED, true, false, false);
+        flann::LinearIndexParams(), flann::FLANN_CHECKS_UNLIMITED, true, Encoding::kAsIs);
   }
   // kd-trees (also for float descriptors under the LSH strategy: LSH needs binary ones). FLANN's
   // L2 is squared: the true distance is its square root, except for binary descriptors
-  // expanded per bit, whose squared L2 is exactly their Hamming distance, the distance the
-  // ratio test must use for them (as the linear and LSH indexes and the in-image matching do).
-  const bool hamming = binary && !options.byteToFloat;
-  return std::make_unique<FlannIndex<flann::L2<float>>>(
-      flann::KDTreeIndexParams(options.kdTrees), options.searchChecks, !hamming, binary, options.byteToFloat);
+  // expanded per bit, whose squared L2 is exactly (a multiple of) their Hamming distance, the
+  // distance the ratio test must use for them (as the linear and LSH indexes and the in-image
+  // matching do).
+  if (binary && !options.byteToFloat) {
+    return std::make_unique<FlannIndex<flann::L2<unsigned char>>>(flann::KDTreeIndexParams(options.kdTrees),
+                                                                  options.searchChecks, false,
+                                                                  Encoding::kBitsAsBytes, kBitDistanceScale);
+  }
+  return std::make_unique<FlannIndex<flann::L2<float>>>(flann::KDTreeIndexParams(options.kdTrees),
+                                                        options.searchChecks, true,
+                                                        binary ? Encoding::kBytesAsFloats : Encoding::kAsIs);
 }
 
 }  // namespace rtabmap::vocabulary

@@ -188,6 +188,34 @@ TEST(BayesFilter, RejectsBadInput) {
   EXPECT_THROW(BayesFilter{bad}, std::invalid_argument);
 }
 
+// The flat form (the loop-closure detector's) and the map form give the same numbers, and the
+// map views follow each update.
+TEST(BayesFilter, FlatAndMapFormsAgree) {
+  Graph g = chain(1, 40);
+  BayesFilter flat, map;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  for (int t = 0; t < 10; ++t) {
+    Scores l{{kVirtualPlace, 1.f + u(rng)}};
+    for (int id = 1 + t; id <= 30 + t; ++id) l.emplace_back(id, 1.f + (u(rng) < 0.1f ? 10.f * u(rng) : 0.f));
+    const Scores& a = flat.updateScores(l, g.fn());
+    const std::map<int, float>& b = map.update(toMap(l), g.fn());
+    ASSERT_EQ(a.size(), b.size());
+    for (const auto& [id, p] : a) ASSERT_EQ(p, b.at(id)) << "t=" << t << " id=" << id;
+    EXPECT_EQ(flat.posterior(), b);  // the lazily built map view is this update's
+    EXPECT_EQ(flat.prior(), map.prior());
+  }
+}
+
+TEST(BayesFilter, RejectsUnsortedOrIncompleteScores) {
+  Graph g = chain(1, 3);
+  BayesFilter filter;
+  EXPECT_THROW(filter.updateScores({{kVirtualPlace, 1.f}, {2, 1.f}, {1, 1.f}}, g.fn()), std::invalid_argument);
+  EXPECT_THROW(filter.updateScores({{kVirtualPlace, 1.f}, {1, 1.f}, {1, 1.f}}, g.fn()), std::invalid_argument);
+  EXPECT_THROW(filter.updateScores({{1, 1.f}, {kVirtualPlace, 1.f}}, g.fn()), std::invalid_argument);
+  EXPECT_THROW(filter.updateScores({}, g.fn()), std::invalid_argument);
+}
+
 TEST(BayesFilter, OptionsFromParameters) {
   auto o = BayesFilterOptions::fromParameters({{"Bayes/PredictionLC", "0.2 0.5 0.3"},
                                                {"Bayes/VirtualPlacePriorThr", "0.8"}});

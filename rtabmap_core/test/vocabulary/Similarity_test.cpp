@@ -26,17 +26,18 @@ TEST(Similarity, EquationOneByHand) {
 // 3 = {4}. New location {1,2}.
 struct Fixture {
   Vocabulary v;
-  Fixture() {
+  // a, b, c: the ids of locations 1, 2, 3.
+  explicit Fixture(int a = 1, int b = 2, int c = 3) {
     cv::Mat d = cv::Mat::eye(4, 4, CV_32F);  // equidistant: no ratio test passes, 4 words
     v.quantize(d, 99);  // words 1..4 referenced by location 99
     EXPECT_EQ(v.size(), 4u);
     std::multimap<int, int> all{{1, 0}, {2, 1}, {3, 2}, {4, 3}};
     v.removeReferences(99, all);
-    v.addReference(1, 1, 2);
-    v.addReference(2, 1, 1);
-    v.addReference(2, 2, 1);
-    v.addReference(3, 2, 1);
-    v.addReference(4, 3, 1);
+    v.addReference(1, a, 2);
+    v.addReference(2, a, 1);
+    v.addReference(2, b, 1);
+    v.addReference(3, b, 1);
+    v.addReference(4, c, 1);
   }
 };
 
@@ -57,6 +58,22 @@ TEST(Similarity, PairLikelihoodMatchesEquationOne) {
   EXPECT_FLOAT_EQ(l.at(1), similarity(bag({1, 2}), bag({1, 1, 2})));  // 2 / 3
   EXPECT_FLOAT_EQ(l.at(2), similarity(bag({1, 2}), bag({2, 3})));     // 1 / 2
   EXPECT_EQ(l.count(3), 0u);  // not a candidate
+}
+
+// The flat form: one score per candidate in the candidates' order; location ids spread over
+// millions (a sparse WM, looked up by binary search) score as the compact ones do.
+TEST(Similarity, FlatLikelihoodWithSparseIds) {
+  Fixture compact, sparse(10, 2000000, 90000000);
+  const auto expected = computeLikelihoodScores(compact.v, bag({1, 2}), {{1, 3}, {2, 2}, {3, 1}}, 3, true);
+  const std::vector<std::pair<int, int>> candidates{{10, 3}, {2000000, 2}, {90000000, 1}};
+  const auto scores = computeLikelihoodScores(sparse.v, bag({1, 2}), candidates, 3, true);
+  ASSERT_EQ(expected.size(), 3u);
+  ASSERT_EQ(scores.size(), 3u);
+  for (size_t i = 0; i < scores.size(); ++i) {
+    EXPECT_EQ(scores[i].first, candidates[i].first);
+    EXPECT_EQ(scores[i].second, expected[i].second);
+  }
+  EXPECT_NEAR(scores[0].second, (2.0 / 3) * std::log10(3.0) + (1.0 / 3) * std::log10(1.5), 1e-6);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <map>
 #include <string>
 
+#include "rtabmap_core/bayes/Scores.h"
 #include "rtabmap_core/params/Parameters.h"
 
 namespace rtabmap::bayes {
@@ -16,6 +17,8 @@ namespace rtabmap::bayes {
 //   sigma > 0), else 2: no evidence of a loop (see Likelihood.cpp for why 2).
 // The result has every key of `similarity` plus kVirtualPlace.
 std::map<int, float> adjustLikelihood(const std::map<int, float>& similarity);
+// The same on the flat form (sorted by id): the result has kVirtualPlace first.
+Scores adjustLikelihoodScores(const Scores& similarity);
 
 struct HypothesisOptions {
   float loopThr = 0.11f;   // Rtabmap/LoopThr
@@ -41,5 +44,7 @@ struct Hypothesis {
 // loop-closure mass whatever it looks like.
 Hypothesis selectHypothesis(const std::map<int, float>& posterior, const HypothesisOptions& options,
                             float previousValue);
+// The same on the flat form (sorted by id).
+Hypothesis selectHypothesisScores(const Scores& posterior, const HypothesisOptions& options, float previousValue);
 
 }  // namespace rtabmap::bayes

@@ -25,6 +25,7 @@
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "rtabmap_core/geometry/SensorData.h"
@@ -122,6 +123,8 @@ class Memory {
   // Raw likelihood of a location against every WM location that is not a bad signature (TF-IDF
   // or eq. 1 per Kp/TfIdfLikelihoodUsed), through the inverted index.
   std::map<int, float> computeLikelihood(int id) const;
+  // The same as (location id, score) pairs sorted by id: what the loop-closure detector uses.
+  std::vector<std::pair<int, float>> likelihoodScores(int id) const;
   // Graph neighbourhood in RAM (STM + WM): id -> link distance, within maxDepth. For the Bayes
   // filter's transition model.
   std::map<int, int> neighbors(int id, int maxDepth) const;

@@ -3,6 +3,8 @@
 // index: the raw likelihoods the Bayes filter adjusts (bayes/Likelihood.h).
 #include <map>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include "rtabmap_core/vocabulary/Vocabulary.h"
 
@@ -28,5 +30,12 @@ float similarity(const std::multimap<int, int>& wordsA, const std::multimap<int,
 std::map<int, float> computeLikelihood(const Vocabulary& vocabulary, const std::multimap<int, int>& newWords,
                                        const std::unordered_map<int, int>& candidates, int totalLocations,
                                        bool tfIdf);
+// The same on flat lists (the loop-closure path: no tree of 20,000 nodes per update):
+// candidates (location id, word count) sorted by id with distinct ids; one score per
+// candidate, in the same order.
+std::vector<std::pair<int, float>> computeLikelihoodScores(const Vocabulary& vocabulary,
+                                                           const std::multimap<int, int>& newWords,
+                                                           const std::vector<std::pair<int, int>>& candidates,
+                                                           int totalLocations, bool tfIdf);
 
 }  // namespace rtabmap::vocabulary

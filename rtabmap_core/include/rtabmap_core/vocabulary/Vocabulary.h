@@ -9,7 +9,8 @@
 // inverted index behind the TF-IDF likelihood) and how many times each does.
 //
 // The nearest-neighbour index is FLANN (Kp/NNStrategy): randomised kd-trees (4) on float
-// descriptors (binary ones are expanded to floats, per bit or, with Kp/ByteToFloat, per byte),
+// descriptors (binary ones are expanded per bit, one byte a bit, or with Kp/ByteToFloat to one
+// float per byte),
 // LSH on binary descriptors with the Hamming distance, or linear search. New words are added to
 // the index incrementally; it is rebuilt from the current words only when the vocabulary has
 // grown by Kp/FlannRebalancingFactor (2 = doubled) since the last build, which bounds both the
