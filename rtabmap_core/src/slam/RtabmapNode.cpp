@@ -72,6 +72,19 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
   return in;
 }
 
+// The weight of a refined neighbour link: the registration's own covariance, the model that
+// also weighs the proximity and loop-closure links it competes with in the graph. Keeping the
+// wheel odometry's (a model of the guess ICP replaced, isotropic, and orders of magnitude
+// stiffer than ICP's for the same scans) made every loop-closing proximity link negligible: the
+// optimiser bent the chain of neighbour links least and left the loops open. A registration
+// without a covariance keeps the odometry's.
+namespace {
+Link::InfMatrix refinedInformation(const RegistrationInfo& info, const Link& odometry, bool diagonalOnly) {
+  const bool measured = info.covariance.allFinite() && info.covariance.diagonal().minCoeff() > 0.0;
+  return measured ? informationOf(info.covariance, diagonalOnly) : odometry.infMatrix();
+}
+}  // namespace
+
 // RGBD/NeighborLinkRefining: the odometry link to the previous node re-estimated by
 // registration (ICP on scans typically), from odometry as guess. Wheel odometry drifts; the
 // scans do not.
@@ -93,7 +106,7 @@ void Rtabmap::Impl::refineNeighborLink(int newId) {
       continue;
     }
     stats.addStatistic(Statistics::kNeighborLinkRefiningICP_inliers_ratio, static_cast<float>(info.icpInliersRatio));
-    memory.addLink(Link(to, newId, Link::kNeighbor, t, forward.infMatrix()));
+    memory.addLink(Link(to, newId, Link::kNeighbor, t, refinedInformation(info, forward, options.covOffDiagIgnored)));
     const Transform previousPose = graph.pose(to);
     if (!previousPose.isNull()) graph.setPose(newId, mapId, previousPose * t);
   }
