@@ -2,15 +2,16 @@
 #   make demo    build, then run the demo (see README)
 #   make test    build, then every test; last line "N passed, N failed, N skipped"
 #   make build   install missing Debian packages, build the catkin workspace under build/
-#   make bench   build, then the benchmarks (long; never part of make test)
+#   make bench   build, then the benchmarks and the sanitizer runs (long; never part of make test)
 #   make clean   remove build/
 #   make fuzz       libFuzzer targets of every parser of outside data, FUZZ_SECONDS (60) each
 #   make test-asan  the core's unit tests built with AddressSanitizer + UBSan (build/asan)
 #   make test-tsan  the core's unit tests built with ThreadSanitizer (build/tsan)
+#   make soak    build, then hours of the simulator's robot through ROS (SOAK_ARGS, see tools/soak/run_soak.py)
 SHELL := /bin/bash
 .SHELLFLAGS := -eo pipefail -c
 .DEFAULT_GOAL := build
-.PHONY: build deps configure test demo bench clean fuzz test-asan test-tsan
+.PHONY: build deps configure test demo bench clean fuzz test-asan test-tsan soak
 
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 BUILD := $(ROOT)/build
@@ -58,8 +59,15 @@ test: build
 demo: build
 	@$(IN_WS) $(ROOT)/tools/build/run-demo.sh $(WS) $(DEMO_ARGS)
 
+# The sanitizer runs (issue 10) are too long for make test's budget: make bench runs them after
+# the benchmarks (BENCH_SANITIZERS=0 skips them).
+BENCH_SANITIZERS ?= 1
 bench: build
 	@$(ROOT)/tools/build/run-bench.sh $(BUILD)/bin
+	@if [ "$(BENCH_SANITIZERS)" = 1 ]; then $(MAKE) --no-print-directory test-asan test-tsan; fi
+
+soak: build
+	@$(IN_WS) $(ROOT)/tools/build/run-soak.sh $(WS) $(SOAK_ARGS)
 
 # Hardening (issue 10). The sanitizer builds are the core alone (plain CMake, clang); the ROS
 # conversion fuzz targets only need the messages generated in the catkin workspace.
