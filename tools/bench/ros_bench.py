@@ -156,6 +156,9 @@ def run_once(name, launch_file, launch_args, private, bag, frame_topic, rate, ou
     finally:
         code = launch.stop()
         listener.close()
+        for key in private:  # the next scenario starts from its own launch file's parameters
+            if rospy.has_param(key):
+                rospy.delete_param(key)
     slam_ms = [u["stats"]["Timing/Total/ms"] for u in listener.updates if "Timing/Total/ms" in u["stats"]]
     odom_ms = [o["ms"] for o in listener.odom_infos if not o["lost"]]
     figures = {"scenario": name, "rate": rate, "bag_s": round(duration, 1), "frames": len(frames),
