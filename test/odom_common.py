@@ -41,9 +41,11 @@ def convert(test, fmt, source, bag, *args):
     test.assertEqual(r.returncode, 0, r.stdout + r.stderr)
 
 
-def play(test, bag, rate, timeout=120):
-    """rosbag play --clock at `rate`, waiting for the end."""
-    player = subprocess.Popen(["rosbag", "play", "--clock", "-q", "-r", str(rate), bag],
+def play(test, bag, rate, timeout=120, start=None, duration=None):
+    """rosbag play --clock at `rate`, waiting for the end; start / duration: only the bag's
+    seconds [start, start + duration)."""
+    part = (["-s", str(start)] if start is not None else []) + (["-u", str(duration)] if duration is not None else [])
+    player = subprocess.Popen(["rosbag", "play", "--clock", "-q", "-r", str(rate), *part, bag],
                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     _, err = player.communicate(timeout=timeout)
     test.assertEqual(player.returncode, 0, err)

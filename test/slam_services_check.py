@@ -6,7 +6,6 @@ where the goal is), then edits the map and switches databases."""
 import copy
 import math
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -24,7 +23,8 @@ from rtabmap_ros.srv import (AddLink, GetMap, GetNodeData, GetNodesInRadius, Get
                              PublishMap, RemoveLabel, SetGoal, SetLabel)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import odom_common as common  # noqa: E402  (temporary folders, waiting)
+import fault_common as fault  # noqa: E402  (the simulator bag)
+import odom_common as common  # noqa: E402  (temporary folders, bag playing, waiting)
 
 PKG = "rtabmap_ros"
 
@@ -62,24 +62,11 @@ class SlamServicesTest(unittest.TestCase):
 
     # ------------------------------------------------------------------ helpers
     def make_bag(self, duration):
-        folder = common.workdir(self, "slam_services_")
-        bag = os.path.join(folder, "loop.bag")
-        r = subprocess.run(["rosrun", PKG, "rtabmap-sim", "--scenario", "loop", "--rate", "2", "--width", "160",
-                            "--height", "120", "--no-stereo", "--no-urg", "--texture-size", "64",
-                            "--duration", str(duration), "--start-stamp", "1700000000",
-                            "--output", os.path.join(folder, "sim"), "--bag", bag],
-                           capture_output=True, text=True, timeout=240)
-        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
-        return bag
+        return fault.make_sim_bag(self, common.workdir(self, "slam_services_"), duration)
 
     def play(self, bag, start, duration=None):
         """rosbag play --clock of [start, start + duration) s of the bag, then waits for the node."""
-        cmd = ["rosbag", "play", "--clock", "-q", "-r", str(rospy.get_param("~rate", 6)), "-s", str(start)]
-        if duration is not None:
-            cmd += ["-u", str(duration)]
-        player = subprocess.run(cmd + [bag], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                                timeout=120)
-        self.assertEqual(player.returncode, 0, player.stderr)
+        common.play(self, bag, rospy.get_param("~rate", 6), start=start, duration=duration)
         common.wait_quiet(self.info, quiet=3.0, timeout=30.0)
 
     def call(self, name, srv_type, *args, **kwargs):

@@ -17,9 +17,7 @@ second, from the start of the replay to the last update (at -r 5 a node that kee
 A final JSON line has every figure; OUTPUT/ros_bench.json too."""
 import argparse
 import json
-import math
 import os
-import subprocess
 import sys
 import threading
 import time
@@ -120,17 +118,6 @@ def bag_frames(bag, topic):
     return stamps
 
 
-def wait_quiet(listener, quiet=5.0, timeout=300.0):
-    end = time.time() + timeout
-    n, since = listener.count(), time.time()
-    while time.time() < end:
-        time.sleep(0.2)
-        if listener.count() != n:
-            n, since = listener.count(), time.time()
-        elif time.time() - since >= quiet:
-            return
-
-
 def run_once(name, launch_file, launch_args, private, bag, frame_topic, rate, out, log, update_rules):
     """One replay: returns its figures."""
     import rospy
@@ -148,7 +135,7 @@ def run_once(name, launch_file, launch_args, private, bag, frame_topic, rate, ou
         duration = frames[-1] - frames[0] if len(frames) > 1 else 0.0
         started = time.time()
         ros.play(bag, rate, log, timeout=3600)
-        wait_quiet(listener)
+        ros.wait_quiet(listener.count, quiet=5.0, timeout=300.0)
         ended = listener.last_wall() or time.time()
         sampler.stopped.set()
         sampler.join()

@@ -47,6 +47,19 @@ def wait_for(predicate, timeout, error=None):
     return False
 
 
+def wait_quiet(count, quiet, timeout, period=0.2):
+    """Waits until count() (messages received so far) has not changed for `quiet` seconds, or
+    `timeout` seconds in all: the node processed what it had queued."""
+    end = time.time() + timeout
+    n, since = count(), time.time()
+    while time.time() < end:
+        time.sleep(period)
+        if count() != n:
+            n, since = count(), time.time()
+        elif time.time() - since >= quiet:
+            return
+
+
 def stop_process(process, timeout):
     """SIGINT to the whole process group (roslaunch passes it to its nodes, which then close
     their database), SIGKILL if it does not end in time."""
@@ -135,14 +148,7 @@ class Recorder:
 
     def wait_quiet(self, quiet=5.0, timeout=300.0):
         """Waits until no info arrived for `quiet` seconds: the node processed what it had."""
-        end = time.time() + timeout
-        n, since = len(self.updates), time.time()
-        while time.time() < end:
-            time.sleep(0.2)
-            if len(self.updates) != n:
-                n, since = len(self.updates), time.time()
-            elif time.time() - since >= quiet:
-                return
+        wait_quiet(lambda: len(self.updates), quiet, timeout)
 
     def close(self):
         for s in self.subscribers:

@@ -389,7 +389,7 @@ def run(args, bag, meta, database, run_log):
             log("playing %.0f s of robot time at rate %g (about %.0f min); RSS every %g s" %
                 (meta["robot_s"], args.rate, meta["robot_s"] / args.rate / 60, args.sample_period))
             play_code, play_wall_s = play_watched(bag, args.rate, watcher, run_log, meta["robot_s"])
-            wait_quiet(watcher, quiet=10.0)
+            ros.wait_quiet(lambda: len(watcher.updates), quiet=10.0, timeout=600.0, period=0.5)
             watcher.sample()
         finally:
             if watcher:
@@ -399,18 +399,6 @@ def run(args, bag, meta, database, run_log):
         master.stop()
     return {"updates": watcher.updates, "samples": watcher.samples, "pids": watcher.pids,
             "launch_exit_code": launch_code, "play_exit_code": play_code, "play_wall_s": play_wall_s}
-
-
-def wait_quiet(watcher, quiet, timeout=600.0):
-    """Until no info arrived for `quiet` seconds: the node processed what it had queued."""
-    end = time.time() + timeout
-    n, since = len(watcher.updates), time.time()
-    while time.time() < end:
-        time.sleep(0.5)
-        if len(watcher.updates) != n:
-            n, since = len(watcher.updates), time.time()
-        elif time.time() - since >= quiet:
-            return
 
 
 def service_up(name):
