@@ -12,7 +12,6 @@ with each other and with the graph, and the map_assembler's grid_map and cloud_m
 node's."""
 import os
 import struct
-import subprocess
 import sys
 import time
 import unittest
@@ -26,7 +25,8 @@ from visualization_msgs.msg import MarkerArray
 from rtabmap_ros.msg import Info, MapGraph, OctoMap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import odom_common as common  # noqa: E402  (temporary folders, waiting)
+import fault_common as fault  # noqa: E402  (the simulator bag)
+import odom_common as common  # noqa: E402  (temporary folders, bag playing, waiting)
 
 PKG = "rtabmap_ros"
 CELL = 0.05  # Grid/CellSize of the test
@@ -91,24 +91,26 @@ class MapTopicsTest(unittest.TestCase):
         self.subscribers.append(rospy.Subscriber(topic, msg_type, self.got[topic].append))
 
     def make_bag(self, duration):
-        folder = common.workdir(self, "map_topics_")
-        bag = os.path.join(folder, "loop.bag")
-        r = subprocess.run(["rosrun", PKG, "rtabmap-sim", "--scenario", "loop", "--rate", "2", "--width", "160",
-                            "--height", "120", "--no-stereo", "--no-urg", "--texture-size", "64",
-                            "--duration", str(duration), "--start-stamp", "1700000000",
-                            "--output", os.path.join(folder, "sim"), "--bag", bag],
-                           capture_output=True, text=True, timeout=240)
-        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
-        return bag
+        return fault.make_sim_bag(self, common.workdir(self, "map_topics_"), duration)
 
     def play(self, bag, start, duration=None):
-        cmd = ["rosbag", "play", "--clock", "-q", "-r", str(rospy.get_param("~rate", 6)), "-s", str(start)]
-        if duration is not None:
-            cmd += ["-u", str(duration)]
-        player = subprocess.run(cmd + [bag], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                                timeout=120)
-        self.assertEqual(player.returncode, 0, player.stderr)
+        """rosbag play --clock of [start, start + duration) s of the bag, then waits for the node."""
+        common.play(self, bag, rospy.get_param("~rate", 6), start=start, duration=duration)
         common.wait_quiet(self.info, quiet=3.0, timeout=30.0)
+
+    def same_update(self, topics, timeout=15.0):
+        """Waits until the last message of every topic comes from one update (same header
+        stamp): a large message (the marker cubes) can still be on its way when a smaller view
+        of the next update has arrived."""
+        def stamp(msg):
+            if hasattr(msg, "markers"):  # MarkerArray: no header of its own
+                return msg.markers[-1].header.stamp if msg.markers else None
+            return msg.header.stamp
+
+        def agree():
+            stamps = {stamp(self.got[t][-1]) for t in topics if self.got[t]}
+            return all(self.got[t] for t in topics) and len(stamps) == 1
+        self.assertTrue(common.wait_for(agree, timeout), "the views of %s never came from one update" % topics)
 
     def latest(self, topic, timeout=15.0):
         self.assertTrue(common.wait_for(lambda: self.got[topic], timeout), f"nothing on {topic}")
@@ -189,6 +191,8 @@ class MapTopicsTest(unittest.TestCase):
         self.assertGreater(heights[-1] - heights[0], 0.3, "the cloud is flat: no 3D local grids?")
 
     def check_octomap(self):
+        self.same_update(["/octomap_binary", "/octomap_full", "/octomap_occupied_space", "/octomap_obstacles",
+                          "/octomap_ground", "/octomap_empty_space", "/occupied_cells_vis_array"])
         binary = self.latest("/octomap_binary")
         full = self.latest("/octomap_full")
         self.assertEqual(binary.header.frame_id, "map")
