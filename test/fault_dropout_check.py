@@ -18,6 +18,7 @@ import rosbag
 import rospy
 import rostest
 
+from rosgraph_msgs.msg import Log
 from rtabmap_ros.msg import Info, MapGraph
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -61,12 +62,13 @@ def punch_holes(source, target):
 
 class FaultDropoutTest(unittest.TestCase):
     """One node for both tests, in order: the holes, then the same bag again from its start."""
-    infos, graphs, node, bag = [], [], None, None
+    infos, graphs, logs, node, bag = [], [], [], None, None
 
     @classmethod
     def setUpClass(cls):
         rospy.Subscriber("/info", Info, cls.infos.append)
         rospy.Subscriber("/mapGraph", MapGraph, cls.graphs.append)
+        rospy.Subscriber("/rosout", Log, cls.logs.append)
         cls.folder = tempfile.mkdtemp(prefix="fault_dropout_")
 
     @classmethod
@@ -112,6 +114,9 @@ class FaultDropoutTest(unittest.TestCase):
         rospy.loginfo("restarted bag: %d updates in map %s (was %s)", len(again), new_map, first_map)
         self.assertGreater(new_map, first_map, "no new map when odometry restarted")
         self.assertIn(again[-1].refId, self.graphs[-1].posesId)
+        # The core's own log (here its "new map" line) reaches /rosout, not only stderr.
+        core = [l for l in self.logs if "new map" in l.msg and l.file.endswith("CoreLog.cpp")]
+        self.assertTrue(core, "the core's \"new map\" message is not on /rosout")
         self.assertEqual(node.kill(signal.SIGINT), 0, "unclean end:\n" + node.log()[-3000:])
 
     def check_holes(self, infos, log):

@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "rtabmap_conversions/CoreLog.h"
 #include "rtabmap_conversions/OdomInfoConversions.h"
 #include "rtabmap_conversions/OdometryConversions.h"
 #include "rtabmap_conversions/PointCloudConversions.h"
@@ -45,6 +46,7 @@ OdometryNodelet::OdometryNodelet(bool lidar) : lidar_(lidar) {}
 OdometryNodelet::~OdometryNodelet() { rateWatch_.stop(); }
 
 void OdometryNodelet::onInit() {
+  rtabmap_conversions::routeCoreLogToRosconsole();
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   readNodeParameters(pnh);

@@ -19,6 +19,7 @@
 #include <map>
 #include <sstream>
 
+#include "rtabmap_conversions/CoreLog.h"
 #include "rtabmap_conversions/GraphConversions.h"
 #include "rtabmap_conversions/InfoConversions.h"
 #include "rtabmap_conversions/TransformConversions.h"
@@ -47,6 +48,7 @@ RtabmapNodelet::~RtabmapNodelet() {
 }
 
 void RtabmapNodelet::onInit() {
+  rtabmap_conversions::routeCoreLogToRosconsole();
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   readNodeParameters(pnh);
