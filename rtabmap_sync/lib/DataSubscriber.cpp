@@ -5,9 +5,11 @@
 #include <message_filters/synchronizer.h>
 
 #include <mutex>
+#include <sstream>
 #include <utility>
 
 #include "ErasedSync.h"
+#include "rtabmap_sync/DropCounter.h"
 #include "rtabmap_sync/LogThrottle.h"
 
 namespace rtabmap_sync {
@@ -79,6 +81,8 @@ struct DataSubscriber::Impl {
   long delivered = 0;
   long dropped = 0;
   LogThrottle errors;
+  DropCounter drops;
+  long dropsWarned = 0;  // drops.dropped() at the last warning
 
   // Stop the callbacks before the synchroniser and the node's callback go away.
   ~Impl() {
@@ -139,6 +143,7 @@ struct DataSubscriber::Impl {
                "stamps from now on.", name.c_str(), ros::Time::now().toSec(), topic.c_str(), stamp.toSec(),
                last.toSec());
       for (ros::Time& t : lastStamps) t = ros::Time();
+      drops.resetStamps();
     }
     if (!last.isZero() && stamp <= last) {
       ++dropped;
@@ -154,6 +159,7 @@ struct DataSubscriber::Impl {
     TopicStatus& s = status[size_t(slot)];
     ++s.received;
     s.lastStamp = stamp.toSec();
+    drops.received(size_t(slot), stamp.toSec());
     return true;
   }
 
@@ -176,13 +182,38 @@ struct DataSubscriber::Impl {
     SyncedData data;
     for (size_t i = 0; i < set.size() && i < slots.size(); ++i) assign(data, slots[i], set[i]);
     data.stamp = set.front()->stamp;
+    std::string lost;
     {
       std::lock_guard<std::mutex> lock(mutex);
       ++delivered;
       lastDelivery = ros::WallTime::now();
       for (TopicStatus& s : status) s.received = 0;
+      std::vector<double> stamps;
+      for (const detail::ErasedPtr& m : set) stamps.push_back(m->stamp.toSec());
+      drops.delivered(stamps);
+      if (drops.dropped() > dropsWarned && errors.due("input lost")) {
+        dropsWarned = drops.dropped();
+        lost = lostText();
+      }
     }
+    if (!lost.empty()) ROS_WARN_STREAM(lost);
     callback(data);
+  }
+
+  // What was lost so far, per topic (the mutex held).
+  std::string lostText() const {
+    std::ostringstream o;
+    o << name << ": input lost, about " << drops.setsLost() << " set(s) of " << (delivered + drops.setsLost())
+      << " since the start:";
+    for (size_t i = 0; i < status.size(); ++i) {
+      if (drops.missingFromStamps(i) == 0 && drops.droppedInSync(i) == 0) continue;
+      o << "\n   " << status[i].topic << ": " << drops.missingFromStamps(i) << " missing from its stamps (every "
+        << drops.typicalInterval(i) << " s), " << drops.droppedInSync(i) << " received but never paired";
+    }
+    o << "\n Missing stamps: roscpp dropped them while the node was busy (queue_size " << options.queueSize
+      << ": raise it, or lower the input rate / the node's work per update), or the sensor skipped them. "
+         "Never paired: the synchroniser (" << describePolicy(options) << ") got no partners for them in time.";
+    return o.str();
   }
 
   std::string warningText(double seconds) const {
@@ -223,6 +254,9 @@ bool DataSubscriber::setup(ros::NodeHandle& nh, const std::string& name, const S
   d.slots = slots;
   d.callback = callback;
   d.lastStamps.assign(slots.size(), ros::Time());
+  // The policies keep at most queue_size messages (sets) waiting; a few more is slack.
+  // ApproximateTime leaves out the extra messages of a faster topic by design: not drops.
+  d.drops = DropCounter(slots.size(), size_t(options_.queueSize) + 2, !options_.approxSync);
   d.lastDelivery = ros::WallTime::now();
   for (const TopicSlot& s : slots) d.status.push_back({nh.resolveName(s.topic), messageType(s.kind), 0, 0.0});
   if (slots.size() > 1) {
@@ -254,6 +288,21 @@ long DataSubscriber::delivered() const {
 long DataSubscriber::droppedBadStamps() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->dropped;
+}
+
+long DataSubscriber::droppedInSync() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->drops.droppedInSync();
+}
+
+long DataSubscriber::missingFromStamps() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->drops.missingFromStamps();
+}
+
+long DataSubscriber::setsLost() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->drops.setsLost();
 }
 
 }  // namespace rtabmap_sync

@@ -190,6 +190,15 @@ def crashes_in_log(path):
             "escalated": len(re.findall(r"escalating to SIG(?:TERM|KILL)", text))}
 
 
+def node_reported_losses(path):
+    """The node's own count of lost input (rtabmap_sync's throttled 'input lost, about N set(s)'
+    warning, DropCounter.h): the warnings logged and the last count. The harness counts drops
+    from the bag; this says whether the node saw them too."""
+    with open(path, errors="replace") as f:
+        counts = [int(n) for n in re.findall(r"input lost, about (\d+) set\(s\)", f.read())]
+    return {"warnings": len(counts), "sets_lost": counts[-1] if counts else 0}
+
+
 def play_watched(bag, rate, watcher, run_log, robot_s):
     """rosbag play --clock -r rate; prints progress every few minutes."""
     with open(run_log, "a") as out:
@@ -277,6 +286,7 @@ def analyse(args, meta, recorded, database, run_log):
     figures["sync"] = metrics.sync_drops([f["stamp"] for f in frames], updates,
                                          {f["stamp"]: f["odom"] for f in frames}, rules["linear"], rules["angular"])
     figures["sync"]["bag_sensor_messages"] = {t: meta["topics"].get(t, 0) for t in SENSOR_TOPICS}
+    figures["sync"]["node_reported"] = node_reported_losses(run_log)
     t_first = updates[0]["stamp"] if updates else t0
     for row in figures["update_time_windows"]:  # where the drops happened
         row["dropped"] = sum(1 for s in figures["sync"]["dropped_stamps"]

@@ -142,6 +142,8 @@ def markdown(figures, checks):
               "| database check (rtabmap-info --check) | %s |" % ("ok" if f["db_check_ok"] else "FAILED"),
               "| sync: frames / updates / skipped by design (robot still) / dropped | %d / %d / %d / %d (%.2f%%) |" %
               (sync["frames"], sync["updates"], sync["skipped_still"], sync["dropped"], 100 * sync["drop_fraction"]),
+              "| sync: input lost as the node reported it (warnings / sets) | %d / %d |" %
+              (sync.get("node_reported", {}).get("warnings", 0), sync.get("node_reported", {}).get("sets_lost", 0)),
               "| revisits (ground truth within %g m of a place left > %g s before) closed within %g s | %d of %d "
               "episodes (%s%%) |" % (f["revisit_radius"], f["revisit_age"], f["revisit_grace"], rv["closed"],
                                      rv["episodes"], _fmt(100 * rv["fraction"], "%.0f")),

@@ -42,7 +42,6 @@ struct CellProjector {
     }
   }
 };
-constexpr int kChunk = 256;
 
 int floorTo(int v, int multiple) { return (v >= 0 ? v / multiple : -((-v + multiple - 1) / multiple)) * multiple; }
 
@@ -53,18 +52,12 @@ void sortUnique(std::vector<int64_t>& v) {
 
 }  // namespace
 
-NodeCells::NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells) {
-  obstacles = obstacleCells.size();
-  const size_t n = obstacleCells.size() + freeCells.size();
-  x.reserve(n);
-  y.reserve(n);
-  z.reserve(n);
+NodeCells::NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells,
+                     float cellSize)
+    : obstacles(obstacleCells, cellSize), free(freeCells, cellSize) {
   bool first = true;
   for (const auto* cells : {&obstacleCells, &freeCells}) {
     for (const cv::Point3f& p : *cells) {
-      x.push_back(p.x);
-      y.push_back(p.y);
-      z.push_back(p.z);
       if (first) {
         lo = hi = p;
         first = false;
@@ -121,13 +114,14 @@ std::vector<int64_t> GridStorage::tilesAt(const NodeCells& n, const Transform& p
   std::vector<int64_t> tiles;
   int cols[kChunk], rows[kChunk];
   int64_t last = std::numeric_limits<int64_t>::min();
-  for (size_t start = 0; start < n.count(); start += kChunk) {
-    const int m = static_cast<int>(std::min<size_t>(kChunk, n.count() - start));
-    proj.project(&n.x[start], &n.y[start], &n.z[start], m, cols, rows);
-    for (int k = 0; k < m; ++k) {
-      const int64_t t = tileKey(cols[k], rows[k]);
-      if (t != last) tiles.push_back(last = t);  // neighbouring cells mostly share a tile
-    }
+  for (const CellSet* set : {&n.obstacles, &n.free}) {
+    set->forEachBatch([&](const float* x, const float* y, const float* z, int m) {
+      proj.project(x, y, z, m, cols, rows);
+      for (int k = 0; k < m; ++k) {
+        const int64_t t = tileKey(cols[k], rows[k]);
+        if (t != last) tiles.push_back(last = t);  // neighbouring cells mostly share a tile
+      }
+    });
   }
   sortUnique(tiles);
   return tiles;
@@ -201,31 +195,49 @@ long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, 
   int lastTileCol = std::numeric_limits<int>::min(), lastTileRow = 0;
   int cols[kChunk], rows[kChunk];
   if (tiles) tiles->clear();
-  for (size_t start = 0; start < n.count(); start += kChunk) {
-    const int m = static_cast<int>(std::min<size_t>(kChunk, n.count() - start));
-    proj.project(&n.x[start], &n.y[start], &n.z[start], m, cols, rows);
-    for (int k = 0; k < m; ++k) {
-      const int col = cols[k] - col0, row = rows[k] - row0;
-      if (static_cast<unsigned>(col) >= w || static_cast<unsigned>(row) >= h) {
-        continue;  // storage covers the node's box: only float rounding at a border lands here
+  // Masked: a run of cells lies on a segment of the world; one whose segment (with a cell of
+  // slack for rounding) touches no dirty tile would write nothing, it is not projected.
+  const float inv = 1.0f / cellSize_;
+  const Affine a(pose);
+  auto touchesDirty = [&](const cv::Point2f& p0, const cv::Point2f& p1) {
+    if (!masked) return true;
+    const cv::Point3f q0(p0.x, p0.y, 0.f), q1(p1.x, p1.y, 0.f);
+    const float x0 = a.x(q0) * inv, x1 = a.x(q1) * inv, y0 = a.y(q0) * inv, y1 = a.y(q1) * inv;
+    const int c0 = std::max(0, fastFloor(std::min(x0, x1)) - 1 - col0);
+    const int c1 = std::min(int(w) - 1, fastFloor(std::max(x0, x1)) + 1 - col0);
+    const int r0 = std::max(0, fastFloor(std::min(y0, y1)) - 1 - row0);
+    const int r1 = std::min(int(h) - 1, fastFloor(std::max(y0, y1)) + 1 - row0);
+    for (int tr = r0 >> kTileShift; tr <= (r1 >> kTileShift) && r0 <= r1; ++tr) {
+      for (int tc = c0 >> kTileShift; tc <= (c1 >> kTileShift) && c0 <= c1; ++tc) {
+        if (dirty[size_t(tr) * tilesW + tc]) return true;
       }
-      const int tc = col >> kTileShift, tr = row >> kTileShift;
-      if (masked && !dirty[size_t(tr) * tilesW + tc]) continue;
-      if (tiles && (tc != lastTileCol || tr != lastTileRow)) {
-        lastTileCol = tc;
-        lastTileRow = tr;
-        tiles->push_back(tileKey(cols[k], rows[k]));
-      }
-      Cell& cell = cells[size_t(row) * w + col];
-      // One update per node and cell; obstacles come first, so a cell this node saw occupied
-      // is not also freed by it.
-      if (cell.stamp == s) continue;
-      cell.stamp = s;
-      const int delta = start + k < n.obstacles ? hit_ : miss_;
-      const int v = cell.logOdds;
-      cell.logOdds = static_cast<int16_t>(std::min(hi, std::max(lo, v == kUnknownFixed ? delta : v + delta)));
-      ++updates;
     }
+    return false;
+  };
+  // Obstacles first, so a cell this node saw occupied is not also freed by it.
+  for (const auto& [set, delta] : {std::pair<const CellSet*, int>{&n.obstacles, hit_}, {&n.free, miss_}}) {
+    set->forEachBatch([&, delta = delta](const float* x, const float* y, const float* z, int m) {
+      proj.project(x, y, z, m, cols, rows);
+      for (int k = 0; k < m; ++k) {
+        const int col = cols[k] - col0, row = rows[k] - row0;
+        if (static_cast<unsigned>(col) >= w || static_cast<unsigned>(row) >= h) {
+          continue;  // storage covers the node's box: only float rounding at a border lands here
+        }
+        const int tc = col >> kTileShift, tr = row >> kTileShift;
+        if (masked && !dirty[size_t(tr) * tilesW + tc]) continue;
+        if (tiles && (tc != lastTileCol || tr != lastTileRow)) {
+          lastTileCol = tc;
+          lastTileRow = tr;
+          tiles->push_back(tileKey(cols[k], rows[k]));
+        }
+        Cell& cell = cells[size_t(row) * w + col];
+        if (cell.stamp == s) continue;  // one update per node and cell
+        cell.stamp = s;
+        const int v = cell.logOdds;
+        cell.logOdds = static_cast<int16_t>(std::min(hi, std::max(lo, v == kUnknownFixed ? delta : v + delta)));
+        ++updates;
+      }
+    }, touchesDirty);
   }
   if (tiles) sortUnique(*tiles);
   return updates;

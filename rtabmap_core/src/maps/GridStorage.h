@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "Cells.h"
 #include "rtabmap_core/geometry/Transform.h"
 #include "rtabmap_core/maps/GridMap.h"
 
@@ -47,18 +48,18 @@ inline int64_t tileKey(int col, int row) {
 inline int tileCol(int64_t key) { return static_cast<int32_t>(static_cast<uint32_t>(key & 0xffffffff)); }
 inline int tileRow(int64_t key) { return static_cast<int32_t>(key >> 32); }
 
-// A node's cells in its base frame, as separate x, y, z arrays (the projection of a batch of
-// cells then compiles to vector instructions): obstacles first, then free cells (ground, and
-// the empty cells of a 2D grid).
+// A node's cells in its base frame (compact, see Cells.h): obstacles are applied first, then
+// free cells (ground, and the empty cells of a 2D grid).
 struct NodeCells {
-  std::vector<float> x, y, z;
-  size_t obstacles = 0;  // the first `obstacles` cells
+  CellSet obstacles, free;
   cv::Point3f lo{0, 0, 0}, hi{0, 0, 0};
   float radius = 0.0f;  // farthest cell from the node's origin, in the plane
 
   NodeCells() = default;
-  NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells);
-  size_t count() const { return x.size(); }
+  NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells,
+            float cellSize);
+  size_t count() const { return obstacles.count() + free.count(); }
+  size_t bytes() const { return sizeof(NodeCells) + obstacles.bytes() + free.bytes(); }
 };
 
 class GridStorage {

@@ -97,12 +97,68 @@ class OccupancyGrid::Impl {
     runs = std::min(runs + 1, 20);  // a running mean that keeps following the machine
   }
 
+  bool appendOnly(const std::map<int, Transform>& poses, std::vector<int>& appended, int& withoutGrid) const;
   GridUpdateSummary update(const std::map<int, Transform>& poses);
 };
+
+// The common update: every assembled node still there and not moved beyond UpdateError, new
+// nodes after the last assembled one. Found in one pass over both sorted maps, building none
+// (diffGraph builds the whole selection and target, O(nodes) allocations per update: with
+// hours of mapping, thousands of nodes, most of Map_assembling). False when anything else
+// changed (nothing is done then: diffGraph decides).
+bool OccupancyGrid::Impl::appendOnly(const std::map<int, Transform>& poses, std::vector<int>& appended,
+                                     int& withoutGrid) const {
+  if (!replaced.empty() || o.maxNodes > 0 || o.altitudeDelta > 0.0f) return false;
+  const int last = assembled.empty() ? std::numeric_limits<int>::min() : assembled.rbegin()->first;
+  auto a = assembled.begin();
+  for (const auto& [id, pose] : poses) {
+    if (a != assembled.end() && a->first < id) return false;  // an assembled node left the graph
+    if (a != assembled.end() && a->first == id) {
+      // Same pose to the bit (nodes out of the optimised local map: most), else diffGraph's test.
+      if (!(a->second == pose) && (pose.isNull() || pose.isInvalid() ||
+                                   maps_detail::cellDisplacement(a->second, pose, cache.at(id).radius) > o.updateError)) {
+        return false;
+      }
+      ++a;
+      continue;
+    }
+    if (pose.isNull() || pose.isInvalid()) continue;  // ignored as absent
+    if (!cache.count(id)) {
+      ++withoutGrid;
+      continue;
+    }
+    if (id < last) return false;  // before the last assembled: a re-assembly
+    appended.push_back(id);
+  }
+  return a == assembled.end();
+}
 
 GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& poses) {
   const auto start = std::chrono::steady_clock::now();
   GridUpdateSummary s;
+  std::vector<int> fresh;
+  int withoutGrid = 0;
+  if (appendOnly(poses, fresh, withoutGrid)) {
+    // Incremental: new nodes come last in the update order.
+    CellBox need;
+    for (int id : fresh) need.unite(nodeBox(id, poses.at(id)));
+    storage.ensureCovers(need);
+    std::vector<int64_t> tiles;
+    for (int id : fresh) {
+      const Transform& pose = poses.at(id);
+      s.cellUpdates += storage.apply(cache.at(id), pose, false, &tiles);
+      tilesOf[id] = tiles;
+      storage.addFootprint(pose, o.footprintRadius, +1);
+      assembled.emplace_hint(assembled.end(), id, pose);
+    }
+    s.path = fresh.empty() ? Path::kNone : Path::kIncremental;
+    s.why = fresh.empty() ? "nothing changed" : std::to_string(fresh.size()) + " new node(s) appended";
+    s.nodesAdded = static_cast<int>(fresh.size());
+    s.nodesWithoutGrid = withoutGrid;
+    s.nodesInGraph = s.nodesAssembled = static_cast<int>(assembled.size());
+    s.timeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return s;
+  }
   const maps_detail::GraphChanges ch = maps_detail::diffGraph(
       poses, assembled, [this](int id) { return cache.count(id) > 0; },
       [this](int id) { return cache.at(id).radius; }, o.updateError, replaced, o.maxNodes, o.altitudeDelta);
@@ -255,7 +311,7 @@ bool OccupancyGrid::addLocalGrid(int nodeId, const LocalGrid& grid, std::string*
   if (obstacles.empty() && free.empty()) {
     return fail("its local grid has only 3D empty cells, which a 2D map does not use");
   }
-  NodeCells n(obstacles.points, free.points);
+  NodeCells n(obstacles.points, free.points, impl_->o.cellSize);
   if (impl_->assembled.count(nodeId)) impl_->replaced.insert(nodeId);
   impl_->cache[nodeId] = std::move(n);
   return true;
@@ -281,7 +337,7 @@ const std::map<int, Transform>& OccupancyGrid::assembledPoses() const { return i
 
 size_t OccupancyGrid::memoryUsed() const {
   size_t bytes = impl_->storage.bytes();
-  for (const auto& [id, n] : impl_->cache) bytes += n.count() * 3 * sizeof(float) + sizeof(NodeCells);
+  for (const auto& [id, n] : impl_->cache) bytes += n.bytes();
   for (const auto& [id, t] : impl_->tilesOf) bytes += t.size() * sizeof(int64_t) + sizeof(Transform) + 64;
   return bytes;
 }

@@ -377,6 +377,10 @@ int Memory::removeFromVocabulary(int id, const std::multimap<int, int>& words) {
     const vocabulary::VisualWord* w = vocabulary_.word(it->first);
     if (w && w->references.empty()) {
       vocabulary_.removeWord(it->first);
+      // Forgotten with the word: the set would otherwise hold every word of the map (tens of
+      // bytes each, hundreds of thousands in hours). A retrieval that brings the word back
+      // marks it saved again (requantize).
+      savedWords_.erase(it->first);
       ++removed;
     }
   }

@@ -119,6 +119,33 @@ TEST(MemoryTransfer, ChangedWordsAreReusedOnRetrieval) {
   EXPECT_EQ(m.vocabulary().word(firstWord), nullptr);
 }
 
+// T-RO 2013 memory management bounds RAM by the Working Memory: what the vocabulary keeps per
+// word (the saved-to-LTM mark included) must leave with the words of transferred locations,
+// however many locations the map has.
+TEST(MemoryTransfer, WordsOfTransferredLocationsLeaveTheVocabularyAndItsBookkeeping) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 1;
+  o.recentWmRatio = 0.f;
+  Memory m(o, &ltm.database);
+  for (int p = 1; p <= 60; ++p) {
+    m.addLocation(view(p));  // 100 words of its own each
+    if (m.wm().size() > 5) m.transfer({}, 0, 5, false);
+    // WM (5) + STM (1) locations hold every word in RAM; none of the transferred ones do.
+    ASSERT_LE(m.vocabulary().size(), 600u) << p;
+    ASSERT_LE(m.savedWordsTracked(), m.vocabulary().size()) << p;
+  }
+  // Random descriptors: the approximate search may quantise one onto an older word now and then.
+  const size_t words = m.vocabulary().size(), saved = m.savedWordsTracked();
+  EXPECT_GE(words, 590u);
+  EXPECT_NEAR(double(words - saved), 100.0, 2.0);  // the STM location's words are not saved yet
+  // A retrieved location's words come back, marked saved: not written twice.
+  const std::vector<int> back = m.retrieveIds({1});
+  ASSERT_EQ(back, (std::vector<int>{1}));
+  EXPECT_NEAR(double(m.vocabulary().size() - words), 100.0, 2.0);
+  EXPECT_EQ(m.savedWordsTracked() - saved, m.vocabulary().size() - words);
+}
+
 TEST(MemoryTransfer, WithoutLtmTransferIsAnError) {
   Memory m(MemoryOptions{});
   EXPECT_THROW(m.transfer({}, 1, 0, true), std::logic_error);

@@ -6,7 +6,9 @@
 //  - drops a message whose stamp is not after the previous one on the same topic (out of
 //    order or duplicated), with an error naming the topic: the policies assume ordered input;
 //  - logs the "did not receive data since 5 seconds" warning (SyncTopics.h, noDataWarning)
-//    when no set came out for 5 s, listing each topic, the policy and what arrived.
+//    when no set came out for 5 s, listing each topic, the policy and what arrived;
+//  - counts and warns about input lost silently by message_filters and roscpp's subscriber
+//    queues (DropCounter.h).
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <rtabmap_ros/OdomInfo.h>
@@ -70,6 +72,13 @@ class DataSubscriber {
   // Sets delivered, and messages dropped for their stamp (unset, out of order, duplicated).
   long delivered() const;
   long droppedBadStamps() const;
+  // Input lost while the node ran (see DropCounter.h): messages accepted but never in a set,
+  // messages missing from each topic's stamps (the subscriber queue overflowed while the node
+  // was busy, or the sensor skipped), and the sets that cost, estimated. Logged as a warning
+  // (throttled) when they grow.
+  long droppedInSync() const;
+  long missingFromStamps() const;
+  long setsLost() const;
 
  private:
   struct Impl;

@@ -178,6 +178,10 @@ class Memory {
   const std::map<int, long>& wm() const { return wm_; }
   bool inRam(int id) const { return signatures_.count(id) != 0; }
   const vocabulary::Vocabulary& vocabulary() const { return vocabulary_; }
+  // Words of the vocabulary known to be in the LTM already (not written again with the next
+  // location that has them). Only words in RAM are tracked: a word that leaves the vocabulary
+  // leaves this set, so its size is bounded by the vocabulary's (Working Memory), not the map's.
+  size_t savedWordsTracked() const { return savedWords_.size(); }
   const MemoryOptions& options() const { return options_; }
   MemorySummary summary() const;
   int lastLocationId() const { return lastId_; }
@@ -203,7 +207,7 @@ class Memory {
   std::unordered_map<int, Signature> signatures_;  // STM + WM
   std::set<int> stm_;
   std::map<int, long> wm_;
-  std::unordered_set<int> savedWords_;  // words already in the LTM
+  std::unordered_set<int> savedWords_;  // words of the vocabulary already in the LTM
   long updateCounter_ = 0;
   int lastId_ = 0;
   int previousId_ = 0;  // location of the previous update (neighbour link, rehearsal)
