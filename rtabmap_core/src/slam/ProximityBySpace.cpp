@@ -7,6 +7,7 @@
 #include "ScanMerge.h"
 #include "rtabmap_core/memory/Memory.h"
 #include "rtabmap_core/optimizer/Graph.h"
+#include "rtabmap_core/registration/CorrelativeScanMatcher.h"
 #include "rtabmap_core/registration/RegistrationInfo.h"
 
 namespace rtabmap {
@@ -44,6 +45,33 @@ std::vector<int> pathWindow(const std::vector<int>& path, int center, int n) {
   const long i = it - path.begin();
   const long first = std::max(0L, i - n), last = std::min(static_cast<long>(path.size()) - 1, i + n);
   return std::vector<int>(path.begin() + first, path.begin() + last + 1);
+}
+
+std::vector<Eigen::Vector2f> pointsInBase2d(const LaserScan& scan) {
+  const LaserScan base = scan.transformedToBase();
+  std::vector<Eigen::Vector2f> out;
+  out.reserve(base.size());
+  for (int i = 0; i < base.size(); ++i) out.push_back(base.point(i).head<2>());
+  return out;
+}
+
+// The ICP guess of a merged-scan proximity link found by correlative scan matching within
+// RGBD/ProximityCorrelativeWindow of the graph's guess (pose of the new scan in the nearest
+// node's frame); null with the reason when no pose scores RGBD/ProximityCorrelativeMinScore.
+Transform correlativeGuess(const LaserScan& merged, const LaserScan& scan, const Transform& guess,
+                           const RtabmapOptions& o, std::string* why) {
+  CorrelativeOptions c;
+  c.resolution = o.proximityCorrelativeResolution;
+  c.linearWindow = o.proximityCorrelativeWindow;
+  c.angularWindow = o.proximityCorrelativeAngle * static_cast<float>(M_PI) / 180.0f;
+  c.minScore = o.proximityCorrelativeMinScore;
+  const CorrelativeResult r = matchCorrelative(pointsInBase2d(merged), pointsInBase2d(scan),
+                                               Eigen::Vector3f(guess.x(), guess.y(), guess.theta()), c);
+  if (!r.found) {
+    *why = r.why;
+    return Transform();
+  }
+  return Transform(r.pose.x(), r.pose.y(), 0.0f, 0.0f, 0.0f, r.pose.z());
 }
 
 }  // namespace
@@ -93,11 +121,17 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     const int nearest = graph::findNearestNode(pathPoses, currentPose, &distance, o.force3DoF);
     // The path passes near the robot, but registration is tried only where the robot really is
     // back on it: farther, the overlap is partial and a link constrains little for its risk.
-    if (distance > o.proximityPathFilteringRadius) continue;
+    // The correlative search of merged scans corrects drift up to its window, so it may look
+    // that far.
+    const bool correlative = o.proximityCorrelativeWindow > 0.0f;
+    const double scanRadius = correlative ? std::max(o.proximityPathFilteringRadius, o.proximityCorrelativeWindow)
+                                          : o.proximityPathFilteringRadius;
+    if (distance > scanRadius) continue;
     const Transform guess = poses.at(currentId).inverse() * poses.at(nearest);  // current -> nearest
 
     // One-to-one visual registration with the nearest node, when it faces the same way.
-    const bool visualOk = registration.usesVision() && !current->isWordsEmpty() &&
+    const bool visualOk = distance <= o.proximityPathFilteringRadius && registration.usesVision() &&
+                          !current->isWordsEmpty() &&
                           angleBetween(currentPose, poses.at(nearest), o.force3DoF) <= maxAngle;
     if (visualOk) {
       ++result.visualChecked;
@@ -135,7 +169,16 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     ++result.scanChecked;
     const LaserScan merged = mergeScans(parts);
     RegistrationInfo info;
-    const Transform inv = guess.inverse();  // pose of the current node in the nearest node's frame
+    Transform inv = guess.inverse();  // pose of the current node in the nearest node's frame
+    if (correlative && merged.is2d() && scan.is2d()) {
+      std::string why;
+      inv = correlativeGuess(merged, scan, inv, o, &why);
+      if (inv.isNull()) {
+        result.rejections.push_back("scan proximity " + std::to_string(currentId) + "->" + std::to_string(nearest) +
+                                    ": " + why);
+        continue;
+      }
+    }
     const Transform t = registration.icp(merged, scan, inv, &info);
     if (t.isNull()) {
       result.rejections.push_back("scan proximity " + std::to_string(currentId) + "->" + std::to_string(nearest) +

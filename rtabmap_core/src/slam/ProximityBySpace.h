@@ -17,6 +17,10 @@
 //     structural complexity is under Icp/PointToPlaneMinComplexity (a corridor: ICP would only
 //     echo the drifted guess along it); the covariance of a merged-scan link is multiplied by
 //     RGBD/ProximityMergedScanCovFactor (the merged scan's own error is unknown).
+//     With RGBD/ProximityCorrelativeWindow > 0 (2D scans), the ICP guess comes from a
+//     correlative search of the merged scans around the graph's guess (CorrelativeScanMatcher.h):
+//     after a long loop the graph can be metres off, beyond ICP's correspondence distance; paths
+//     within that window (not only RGBD/ProximityPathFilteringRadius) are tried by scans.
 #include <map>
 #include <set>
 #include <string>

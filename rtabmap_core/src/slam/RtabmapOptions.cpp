@@ -37,6 +37,10 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.proximityAngle = P::getFloat(p, P::kRGBDProximityAngle());
   o.proximityOdomGuess = P::getBool(p, P::kRGBDProximityOdomGuess());
   o.proximityMergedScanCovFactor = P::getDouble(p, P::kRGBDProximityMergedScanCovFactor());
+  o.proximityCorrelativeWindow = P::getFloat(p, P::kRGBDProximityCorrelativeWindow());
+  o.proximityCorrelativeAngle = P::getFloat(p, P::kRGBDProximityCorrelativeAngle());
+  o.proximityCorrelativeMinScore = P::getFloat(p, P::kRGBDProximityCorrelativeMinScore());
+  o.proximityCorrelativeResolution = P::getFloat(p, P::kRGBDProximityCorrelativeResolution());
   o.optimizeMaxError = P::getFloat(p, P::kRGBDOptimizeMaxError());
   o.optimizeFromGraphEnd = P::getBool(p, P::kRGBDOptimizeFromGraphEnd());
   o.maxLoopClosureDistance = P::getFloat(p, P::kRGBDMaxLoopClosureDistance());

@@ -40,6 +40,10 @@ struct RtabmapOptions {
   float proximityAngle = 45.0f;           // RGBD/ProximityAngle (deg)
   bool proximityOdomGuess = false;        // RGBD/ProximityOdomGuess
   double proximityMergedScanCovFactor = 100.0;  // RGBD/ProximityMergedScanCovFactor
+  float proximityCorrelativeWindow = 0.0f;      // RGBD/ProximityCorrelativeWindow (m, 0 = off)
+  float proximityCorrelativeAngle = 20.0f;      // RGBD/ProximityCorrelativeAngle (deg)
+  float proximityCorrelativeMinScore = 0.6f;    // RGBD/ProximityCorrelativeMinScore
+  float proximityCorrelativeResolution = 0.1f;  // RGBD/ProximityCorrelativeResolution (m)
   // Graph
   float optimizeMaxError = 3.0f;          // RGBD/OptimizeMaxError (standard deviations, 0 = off)
   bool optimizeFromGraphEnd = false;      // RGBD/OptimizeFromGraphEnd
