@@ -76,6 +76,7 @@ test-asan: deps
 
 test-tsan: deps
 	@$(ROOT)/tools/build/sanitizers.sh tsan $(BUILD)/tsan
+	@$(ROOT)/rtabmap_slam_node/test/tsan_maps_worker.sh $(BUILD)/tsan
 
 fuzz: configure
 	cmake --build $(WS)/build --target rtabmap_ros_generate_messages_cpp -- -j$(JOBS)

@@ -153,10 +153,23 @@ class MapTopicsTest(unittest.TestCase):
                       "octomap rebuilt at %d, maps time median %.1f ms, max %.1f ms", len(graph.posesId),
                       stat(last, "Maps/Cloud_nodes/"), stat(last, "Maps/OctoMap_nodes/"), len(after),
                       sum(stat(i, "Maps/OctoMap_rebuilt/") for i in after), times[len(times) // 2], times[-1])
+        # The maps are assembled off the SLAM update (a worker thread): info's Maps/* describe the
+        # last COMPLETED assembly, an earlier update's (Maps/Graph_nodes/: the size of its graph),
+        # and updates arriving while it works coalesce into one job.
+        assembled = stat(last, "Maps/Graph_nodes/")
+        rospy.loginfo("last info: its assembly had %d graph nodes, %d grids fetched; %d updates coalesced",
+                      assembled, stat(last, "Maps/Grids_fetched/"), stat(last, "Maps/Coalesced_jobs/"))
+        self.assertIn(assembled, {len(g.posesId) for g in self.graphs}, "not the graph of an update")
         # Every node of the graph has a 3D local grid here: each map assembles all of them.
-        self.assertEqual(stat(last, "Maps/Cloud_nodes/"), len(graph.posesId))
-        self.assertEqual(stat(last, "Maps/OctoMap_nodes/"), len(graph.posesId))
-        self.assertLessEqual(stat(last, "Maps/Grids_fetched/"), 1, "the update's node only, not the whole map again")
+        self.assertEqual(stat(last, "Maps/Cloud_nodes/"), assembled)
+        self.assertEqual(stat(last, "Maps/OctoMap_nodes/"), assembled)
+        self.assertLess(stat(last, "Maps/Grids_fetched/"), 0.25 * assembled,
+                        "the grids of the updates' nodes only, not the whole map again")
+        # ... and the worker's last job is the last update's: the cloud catches up with the update
+        # that added the graph's last node.
+        complete = min(g.header.stamp for g in self.graphs if len(g.posesId) == len(graph.posesId))
+        self.assertTrue(common.wait_for(lambda: self.got["/cloud_map"][-1].header.stamp >= complete, 15.0),
+                        "cloud_map never caught up with the last update")
 
         self.check_cloud_map()
         self.check_octomap()
@@ -256,8 +269,10 @@ class MapTopicsTest(unittest.TestCase):
                       mine.info.height, known, differ)
         self.assertGreater(known, 1000)
         # Same grids, same final poses; the two only differ by the nodes each left in place
-        # because they moved less than GridGlobal/UpdateError (1 cm) at some update.
-        self.assertLessEqual(differ, 0.002 * known)
+        # because they moved less than GridGlobal/UpdateError (1 cm) at some update. The node's
+        # grid follows every update, the assembler's worker the updates it did not coalesce (a
+        # node moving 0.6 cm twice stays in one, moves in the other): up to ~0.5% seen.
+        self.assertLessEqual(differ, 0.01 * known)
 
         cloud, theirs_cloud = self.latest("/cloud_map"), self.latest("/assembler/cloud_map")
         self.assertLessEqual(abs(cloud.width - theirs_cloud.width), 0.01 * cloud.width)

@@ -74,7 +74,9 @@ MapsUpdateSummary MapsAssembler::update(const std::map<int, rtabmap::Transform>&
   };
   std::map<int, rtabmap::LocalGrid> fetched;
   for (const auto& [id, pose] : poses) {
-    if (!usablePose(pose) || withoutGrid_.count(id) || !lacks(id)) continue;
+    if (!usablePose(pose)) continue;
+    ++summary.graphNodes;
+    if (withoutGrid_.count(id) || !lacks(id)) continue;
     std::optional<rtabmap::LocalGrid> grid = source ? source(id) : std::nullopt;
     ++summary.gridsFetched;
     if (!grid || grid->isEmpty()) {

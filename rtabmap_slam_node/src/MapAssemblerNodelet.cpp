@@ -3,6 +3,7 @@
 
 #include <pluginlib/class_list_macros.hpp>
 
+#include "rtabmap_conversions/CoreLog.h"
 #include "rtabmap_conversions/NodeDataConversions.h"
 #include "rtabmap_odom/NodeParameters.h"
 #include "rtabmap_odom/PrivateParameters.h"
@@ -10,6 +11,7 @@
 namespace rtabmap_ros {
 
 void MapAssemblerNodelet::onInit() {
+  rtabmap_conversions::routeCoreLogToRosconsole();
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   const std::map<std::string, std::string> raw = rtabmap_odom::privateParameters(pnh);
@@ -49,11 +51,13 @@ void MapAssemblerNodelet::onMapData(const rtabmap_ros::MapDataConstPtr& msg) {
 }
 
 void MapAssemblerNodelet::publish(const std_msgs::Header& header, bool force) {
-  const rtabmap_slam_node::MapsUpdateSummary s =
-      maps_.publish(poses_, [this](int id) { return grids_.get(id); }, header, force);
-  NODELET_DEBUG("%s: %zu nodes, %zu grids kept; %d grids taken, cloud %d nodes, octomap %d nodes, grid %d nodes, "
-                "%.1f ms", getName().c_str(), poses_.size(), grids_.size(), s.gridsFetched, s.cloudNodes,
-                s.octomapNodes, s.gridNodes, s.timeMs);
+  // The maps worker assembles and publishes on its own thread: mapData is never held up.
+  maps_.submit(poses_, [this](int id) { return grids_.get(id); }, header, force);
+  const rtabmap_slam_node::MapsWorkerStats w = maps_.workerStats();
+  NODELET_DEBUG("%s: %zu nodes, %zu grids kept; last assembly: %d grids taken, cloud %d nodes, octomap %d nodes, "
+                "grid %d nodes, %.1f ms; %ld jobs coalesced", getName().c_str(), poses_.size(), grids_.size(),
+                w.last.gridsFetched, w.last.cloudNodes, w.last.octomapNodes, w.last.gridNodes, w.last.timeMs,
+                w.coalescedJobs);
 }
 
 void MapAssemblerNodelet::onMapSubscriber() {

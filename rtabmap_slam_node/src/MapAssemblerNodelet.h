@@ -8,7 +8,9 @@
 //   another grid, e.g. after a reset of the SLAM node, the new one replaces it); the poses are
 //   the last message's graph.
 // Topics out (latched, each computed only while it has a subscriber, from the whole map when
-//   one appears, then incrementally; frame: the mapData header's): grid_map
+//   one appears, then incrementally, on a worker thread (MapsPublisher.h: a mapData message is
+//   never held up by an assembly; messages arriving meanwhile coalesce); frame: the mapData
+//   header's): grid_map
 //   (nav_msgs/OccupancyGrid: the same assembly as the SLAM node's, core OccupancyGrid),
 //   cloud_map, octomap_binary, octomap_full, octomap_occupied_space, octomap_obstacles,
 //   octomap_ground, octomap_empty_space, occupied_cells_vis_array, octomap_grid (see

@@ -116,4 +116,35 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
   return frame;
 }
 
+void RtabmapNodelet::onInitialPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!haveCore("initialpose")) return;
+  geometry_msgs::PoseStamped stamped;
+  stamped.header = msg->header;
+  stamped.pose = msg->pose.pose;
+  std::string error;
+  const rtabmap::Transform pose = poseInMap(stamped, &error);  // goals and initial poses alike
+  if (pose.isNull()) {
+    NODELET_WARN("%s: initialpose ignored: %s.", getName().c_str(), error.c_str());
+    return;
+  }
+  applyInitialPose(pose, "initialpose");
+}
+
+bool RtabmapNodelet::applyInitialPose(const rtabmap::Transform& pose, const char* from) {
+  std::string why;
+  if (!core_->setInitialPose(pose, &why)) {
+    NODELET_WARN("%s: %s %s refused: %s", getName().c_str(), from, pose.prettyPrint().c_str(), why.c_str());
+    return false;
+  }
+  {
+    // Moved at once when odometry was already received (else at the next update).
+    std::lock_guard<std::mutex> tfLock(tfMutex_);
+    mapToOdom_ = core_->mapCorrection();
+  }
+  NODELET_INFO("%s: %s: the robot is at %s in %s (%s).", getName().c_str(), from, pose.prettyPrint().c_str(),
+               mapFrameId_.c_str(), mapping_ ? "the new map starts there" : "localization starts from there");
+  return true;
+}
+
 }  // namespace rtabmap_ros

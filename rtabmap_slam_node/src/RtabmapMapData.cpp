@@ -34,9 +34,11 @@ void RtabmapNodelet::publishLatestNodeData(const ros::Time& stamp) {
                                                         core_->mapCorrection(), mapHeader(stamp)));
 }
 
-rtabmap_slam_node::MapsUpdateSummary RtabmapNodelet::publishMaps(const ros::Time& stamp, bool force) {
-  if (!core_) return rtabmap_slam_node::MapsUpdateSummary();
-  return maps_.publish(core_->optimizedPoses(), [this](int id) { return localGridOf(id); }, mapHeader(stamp), force);
+void RtabmapNodelet::publishMaps(const ros::Time& stamp, bool force) {
+  if (!core_) return;
+  // Under mutex_: the poses and the grids the maps worker has not received yet (one per update
+  // in steady state); it assembles and publishes on its own thread.
+  maps_.submit(core_->optimizedPoses(), [this](int id) { return localGridOf(id); }, mapHeader(stamp), force);
 }
 
 void RtabmapNodelet::onMapSubscriber() {

@@ -23,6 +23,7 @@
 #include "rtabmap_conversions/GraphConversions.h"
 #include "rtabmap_conversions/InfoConversions.h"
 #include "rtabmap_conversions/TransformConversions.h"
+#include "rtabmap_slam_node/InitialPoseParam.h"
 #include "rtabmap_slam_node/ServicePaths.h"
 #include "rtabmap_odom/NodeParameters.h"
 #include "rtabmap_odom/PrivateParameters.h"
@@ -37,12 +38,13 @@ const std::vector<std::string> kNodeParameters = {
     "tf_tolerance", "wait_for_transform_duration", "odom_tf_linear_variance", "odom_tf_angular_variance",
     "odom_covariance_cumulative", "odom_sensor_sync", "subscribe_depth", "subscribe_rgb", "subscribe_rgbd",
     "subscribe_stereo", "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom", "subscribe_odom_info",
-    "subscribe_user_data", "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size"};
+    "subscribe_user_data", "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size", "initial_pose"};
 
 }  // namespace
 
 RtabmapNodelet::~RtabmapNodelet() {
   tfTimer_.stop();
+  maps_.stop();  // joins the maps worker: an assembly under way finishes unpublished
   std::lock_guard<std::mutex> lock(mutex_);
   stopCore();  // everything in RAM goes to the database
 }
@@ -121,6 +123,10 @@ void RtabmapNodelet::readNodeParameters(ros::NodeHandle& pnh) {
   pnh.param("odom_tf_angular_variance", odomTfAngularVariance_, odomTfAngularVariance_);
   pnh.param("odom_covariance_cumulative", odomCovarianceCumulative_, odomCovarianceCumulative_);
   pnh.param("odom_sensor_sync", odomSensorSync_, odomSensorSync_);
+  std::string initialPose;
+  pnh.param("initial_pose", initialPose, initialPose);
+  initialPose_ = rtabmap_slam_node::parseInitialPose(initialPose, &why);
+  if (!why.empty()) NODELET_ERROR("%s: initial_pose: %s; ignored.", getName().c_str(), why.c_str());
   if (!(tfDelay_ > 0.0)) {
     NODELET_WARN("%s: tf_delay must be > 0 (got %g); using 0.05 s.", getName().c_str(), tfDelay_);
     tfDelay_ = 0.05;
@@ -187,6 +193,7 @@ void RtabmapNodelet::advertise(ros::NodeHandle& nh) {
   goalReachedPub_ = nh.advertise<std_msgs::Bool>("goal_reached", 1);
   goalSub_ = nh.subscribe("goal", 1, &RtabmapNodelet::onGoal, this);
   goalNodeSub_ = nh.subscribe("goal_node", 1, &RtabmapNodelet::onGoalNode, this);
+  initialPoseSub_ = nh.subscribe("initialpose", 1, &RtabmapNodelet::onInitialPose, this);
   services_.push_back(nh.advertiseService("set_goal", &RtabmapNodelet::onSetGoal, this));
   services_.push_back(nh.advertiseService("cancel_goal", &RtabmapNodelet::onCancelGoal, this));
   services_.push_back(nh.advertiseService("get_plan", &RtabmapNodelet::onGetPlan, this));
@@ -225,6 +232,7 @@ bool RtabmapNodelet::startCore(bool mapping) {
   }
   mapping_ = mapping;
   previousOdomCovariance_.reset();
+  if (initialPose_) applyInitialPose(*initialPose_, "initial_pose");
   publishGoalPath(ros::Time::now());
   NODELET_INFO("%s: SLAM started in %s mode on \"%s\"", getName().c_str(), mapping ? "mapping" : "localization",
                databasePath_.c_str());
@@ -284,10 +292,10 @@ void RtabmapNodelet::publishUpdate(const ros::Time& stamp) {
   std_msgs::Header header;
   header.stamp = stamp;
   header.frame_id = mapFrameId_;
-  const rtabmap_slam_node::MapsUpdateSummary maps = publishMaps(stamp);
+  publishMaps(stamp);  // first: the worker assembles while the rest is published
   if (infoPub_.getNumSubscribers() > 0) {
     rtabmap_ros::Info info = rtabmap_conversions::statisticsToMsg(core_->statistics(), header);
-    maps_.addStatistics(maps, info);
+    maps_.addStatistics(info);  // the maps worker's last completed assembly
     infoPub_.publish(info);
   }
   if (mapGraphPub_.getNumSubscribers() > 0) {

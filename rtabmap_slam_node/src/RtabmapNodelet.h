@@ -26,10 +26,17 @@
 //     (wheel odometry) rather than being the last motion's (rtabmap's odometry); see
 //     rtabmap_slam_node/SlamNodeSupport.h motionCovariance()
 //   Group/Name: core parameters (strings accepted; an unknown key is warned with the closest)
+//   initial_pose ("" = none): "x y z roll pitch yaw" or "x y z qx qy qz qw", the robot's pose
+//     in map_frame_id given to the core (Rtabmap::setInitialPose) each time it starts (node
+//     start, reset, backup, mode switch, update_parameters, load_database): localization
+//     assumes the robot there until it localises, mapping starts the new map there.
 // Arguments: -d / --delete_db_on_start deletes the database before opening it.
 // Topics in: goal (geometry_msgs/PoseStamped; any frame tf can bring to map_frame_id): plan to
 //   the node nearest to the pose and follow it; goal_node (rtabmap_ros/Goal: node_id, or
-//   node_label when node_id is 0).
+//   node_label when node_id is 0); initialpose (geometry_msgs/PoseWithCovarianceStamped,
+//   rviz's "2D Pose Estimate"; map_frame_id, or a frame tf can bring to it; the covariance is
+//   not used): the robot is there now (Rtabmap::setInitialPose; refused, with a warning, in
+//   mapping mode once the map has nodes).
 // Topics out: info (rtabmap_ros/Info), mapGraph (rtabmap_ros/MapGraph), grid_map
 //   (nav_msgs/OccupancyGrid, latched, computed only when subscribed), localization_pose
 //   (geometry_msgs/PoseWithCovarianceStamped, localization mode), tf map -> odom;
@@ -54,10 +61,14 @@
 //     occupied_cells_vis_array (visualization_msgs/MarkerArray: occupied voxels as cubes, as
 //     octomap_server names it, for rviz without the octomap plugin), octomap_grid
 //     (nav_msgs/OccupancyGrid: the octomap projected on the floor). A real 3D octomap needs 3D
-//     local grids (Grid/3D with Grid/Sensor 1 or 2); from 2D scans it is one flat layer. info
-//     carries Maps/Assembling_updates/ (updates that assembled a 3D map since start: 0 while
-//     nobody listened), Maps/Grids_fetched/, Maps/Cloud_nodes/, Maps/OctoMap_nodes/,
-//     Maps/OctoMap_rebuilt/ and Maps/Time/ms of the update.
+//     local grids (Grid/3D with Grid/Sensor 1 or 2); from 2D scans it is one flat layer.
+//     Assembled and published by a worker thread, off the SLAM update (which only hands over
+//     the poses and the new nodes' grids; updates coming while it is busy coalesce). info
+//     carries Maps/Assembling_updates/ (assemblies of a 3D map since start: 0 while nobody
+//     listened), Maps/Coalesced_jobs/ (updates merged into a later assembly, since start), and
+//     of the last COMPLETED assembly (usually an earlier update's): Maps/Graph_nodes/ (its
+//     graph), Maps/Grids_fetched/, Maps/Cloud_nodes/, Maps/OctoMap_nodes/,
+//     Maps/OctoMap_rebuilt/, Maps/Time/ms.
 // Services: reset, pause, resume, trigger_new_map, backup, set_mode_localization,
 //   set_mode_mapping (std_srvs/Empty), get_map (nav_msgs/GetMap), set_label
 //   (rtabmap_ros/SetLabel), list_labels (rtabmap_ros/ListLabels), remove_label
@@ -183,6 +194,11 @@ class RtabmapNodelet : public nodelet::Nodelet {
   void publishGoalPath(const ros::Time& stamp);
   void publishGoalStatus(const ros::Time& stamp);  // after an update: path and goal_reached
 
+  // Initial pose (RtabmapInputs.cpp): from the initialpose topic, or initial_pose at each
+  // start of the core (mutex_ held); logs whether the core took it, and moves map -> odom.
+  void onInitialPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
+  bool applyInitialPose(const rtabmap::Transform& pose, const char* from);
+
   // Map views and map data (RtabmapMapData.cpp).
   void publishMarkers(const ros::Time& stamp, bool force = false);
   void publishLatestNodeData(const ros::Time& stamp);
@@ -193,7 +209,8 @@ class RtabmapNodelet : public nodelet::Nodelet {
   bool onGetNodeData(rtabmap_ros::GetNodeData::Request& req, rtabmap_ros::GetNodeData::Response& res);
   // The 3D maps (MapsPublisher.h) of the current map, for their listeners; after an update,
   // and at once for a new listener.
-  rtabmap_slam_node::MapsUpdateSummary publishMaps(const ros::Time& stamp, bool force = false);
+  // Hands the update to the maps worker and returns at once (MapsPublisher.h).
+  void publishMaps(const ros::Time& stamp, bool force = false);
   void onMapSubscriber();
   std::optional<rtabmap::LocalGrid> localGridOf(int nodeId) const;
   // False with a warning naming the service when there is no core.
@@ -233,6 +250,8 @@ class RtabmapNodelet : public nodelet::Nodelet {
   ros::Publisher labelsPub_, graphMarkersPub_, mapDataPub_;
   MapsPublisher maps_;
   ros::Subscriber goalSub_, goalNodeSub_;
+  std::optional<rtabmap::Transform> initialPose_;  // initial_pose
+  ros::Subscriber initialPoseSub_;
   bool goalPathShown_ = false;  // the last path published was not empty
   std::vector<ros::ServiceServer> services_;
   ros::WallTimer tfTimer_;

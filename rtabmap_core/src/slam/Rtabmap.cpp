@@ -21,6 +21,12 @@ void Rtabmap::init(const ParametersMap& parameters, const std::string& databaseP
   if (impl_->initialized) close();
   impl_ = std::make_unique<Impl>();
   impl_->open(parameters, databasePath);
+  if (!impl_->options.incremental) {
+    // Localization works in the referential of the newest node: the database's last map id
+    // can be a session that added no node (one closed at once, a backup).
+    const int newest = impl_->newestMapId();
+    if (newest >= 0) impl_->mapId = newest;
+  }
 }
 
 void Rtabmap::close() { impl_->close(); }
@@ -41,7 +47,14 @@ Transform Rtabmap::currentPose() const { return impl_->currentPose; }
 int Rtabmap::mapId() const { return impl_->mapId; }
 int Rtabmap::lastNodeId() const { return impl_->lastNodeId; }
 
-std::map<int, Transform> Rtabmap::optimizedPoses() const { return impl_->graph.posesOfGroup(impl_->mapId); }
+std::map<int, Transform> Rtabmap::optimizedPoses() const {
+  const std::map<int, Transform> current = impl_->graph.posesOfGroup(impl_->mapId);
+  if (!current.empty() || impl_->lastNodeId != 0) return current;
+  // A map without a node yet (a new session on an existing database, a new map): the map it
+  // follows, until the first node of its own.
+  const int newest = impl_->newestMapId();
+  return newest < 0 ? current : impl_->graph.posesOfGroup(newest);
+}
 
 std::multimap<int, Link> Rtabmap::localLinks() const {
   if (!impl_->detector) return {};

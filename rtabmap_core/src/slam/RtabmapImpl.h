@@ -86,6 +86,7 @@ struct Rtabmap::Impl {
   // Localization mode
   bool localized = false;
   Transform initialLocalizationPose;  // last pose of the saved map (RGBD/StartAtOrigin false)
+  Transform initialPose;              // given by the user, applied at the next update (null: none)
   std::map<int, std::string> labelCache;
 
   // --- outputs ---
@@ -129,6 +130,13 @@ struct Rtabmap::Impl {
   OptimizerOptions incrementalOptions(const std::map<int, Transform>& input, const std::vector<Link>& newLinks) const;
   void retrieveNearRobot(const Transform& pose, memory::LoopClosureUpdate& u, std::set<int>& immune);
   std::set<int> localImmunity(const Transform& pose) const;
+
+  // RtabmapInitialPose.cpp
+  // Before an update: the user's initial pose, else, in localization before the first update,
+  // the last session's last pose (or the origin, RGBD/StartAtOrigin), set map -> odom.
+  void applyStartPose(const Transform& odom);
+  // The map of the newest node known (-1 if none): the map a new session continues.
+  int newestMapId() const;
 
   // RtabmapPlanning.cpp
   bool setGoal(const PlanGoal& goal);

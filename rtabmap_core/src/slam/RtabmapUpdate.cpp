@@ -82,6 +82,7 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
     return false;
   }
   if (newMapPending) startNewMap();
+  applyStartPose(odom);
   lastOdom = odom;
   if (data.stamp() > 0.0) {
     lastStamp = data.stamp();
@@ -237,13 +238,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
 bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance) {
   const auto start = std::chrono::steady_clock::now();
   memory::Memory& memory = detector->memory();
-  if (!localized && lastNodeId == 0 && summary.localizations == 0) {
-    // Before the first localisation the robot is assumed where the last session ended (or at
-    // the origin with RGBD/StartAtOrigin).
-    const Transform start0 = options.startAtOrigin || initialLocalizationPose.isNull() ? Transform::Identity()
-                                                                                       : initialLocalizationPose;
-    if (currentPose.isNull()) mapCorrection = start0 * odom.inverse();
-  }
+  // (Where the robot is assumed before its first localisation: applyStartPose().)
   if (localized && isStill(odom)) {
     ++summary.skippedStill;
     return false;
@@ -272,7 +267,12 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
   retrieveNearRobot(estimate, u, immune);
   if (found.empty() && options.proximityBySpace) {
     StageTimer t(stats, Statistics::kTimingProximity_by_space);
-    ProximityResult p = detectProximityBySpace(memory, tempId, ramPosesOfGroup(), options, *registration,
+    // The temporary node is linked to nothing: a graph depth from it would leave no candidate.
+    // The local radius around the estimate (last localisation or the user's initial pose,
+    // moved by odometry) bounds the search instead.
+    RtabmapOptions unlinked = options;
+    unlinked.proximityMaxGraphDepth = 0;
+    ProximityResult p = detectProximityBySpace(memory, tempId, ramPosesOfGroup(), unlinked, *registration,
                                                options.covOffDiagIgnored);
     found = p.links;
   }
@@ -304,6 +304,8 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
   memory.removeLastLocation();
   graph.erase(tempId);
   detector->manageMemory(immune, 0.0, vocabularyAtStart, u);
+  summary.transferred += static_cast<int>(u.transferred.size());
+  summary.retrieved += static_cast<int>(u.retrieved.size());
   const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   finishStatistics(u, 0, total);
   return used;

@@ -38,6 +38,7 @@ struct MapsWanted {
 // What one update() did (all zero when nothing was wanted).
 struct MapsUpdateSummary {
   int gridsFetched = 0;      // local grids asked to the source
+  int graphNodes = 0;        // nodes of `poses` with a usable pose (what a complete map assembles)
   int cloudNodes = 0;        // nodes assembled in each map after the update (0 = no such map)
   int octomapNodes = 0;
   int gridNodes = 0;

@@ -117,7 +117,8 @@ class Rtabmap {
   // The robot's pose in the map at the last update (null before the first).
   Transform currentPose() const;
   // Optimised poses of every node of the current referential (nodes in LTM keep the pose they
-  // had when they left RAM).
+  // had when they left RAM). Before the first node of a new map, the referential of the
+  // database's last node: a new session on an existing database shows the map it continues.
   std::map<int, Transform> optimizedPoses() const;
   // Links of the nodes in RAM (each once).
   std::multimap<int, Link> localLinks() const;
@@ -130,6 +131,16 @@ class Rtabmap {
 
   // Starts a new map (new map id) at the next update, as an odometry reset does.
   void triggerNewMap();
+  // Where the robot is in the map frame, given by the user (rviz's "2D Pose Estimate", the
+  // node's initial_pose) (RtabmapInitialPose.cpp). Localization: the robot is assumed at `pose`
+  // until it localises (instead of the last session's last pose, RGBD/StartAtOrigin), so the
+  // proximity search and the retrieval from LTM look around it; the next localisation is
+  // accepted wherever it puts the robot (RGBD/MaxLoopClosureDistance does not apply to a
+  // guess). Mapping: where the current map starts, only before its first node (after init()
+  // or a new map). map -> odom becomes pose * odom^-1 at the next update (at once when an
+  // odometry pose was already received). False, with the reason in *why, for a null or
+  // non-finite pose or a map already started.
+  bool setInitialPose(const Transform& pose, std::string* why = nullptr);
   // Labels (goals by name). False if the node is unknown or the label is used by another node.
   bool setLabel(int nodeId, const std::string& label);
   std::map<int, std::string> labels() const;
