@@ -296,6 +296,15 @@ void RtabmapNodelet::publishUpdate(const ros::Time& stamp) {
   if (infoPub_.getNumSubscribers() > 0) {
     rtabmap_ros::Info info = rtabmap_conversions::statisticsToMsg(core_->statistics(), header);
     maps_.addStatistics(info);  // the maps worker's last completed assembly
+    // Input lost since start (rtabmap_sync's DropCounter): the subscriber queues overflowing
+    // while an update ran, messages never paired, and the data sets that cost.
+    const std::pair<const char*, long> lost[] = {{"Sync/Sets_lost/", subscriber_.setsLost()},
+                                                 {"Sync/Missing_from_stamps/", subscriber_.missingFromStamps()},
+                                                 {"Sync/Dropped_in_sync/", subscriber_.droppedInSync()}};
+    for (const auto& [key, value] : lost) {
+      info.statsKeys.push_back(key);
+      info.statsValues.push_back(static_cast<float>(value));
+    }
     infoPub_.publish(info);
   }
   if (mapGraphPub_.getNumSubscribers() > 0) {
