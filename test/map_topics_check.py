@@ -268,14 +268,15 @@ class MapTopicsTest(unittest.TestCase):
         rospy.loginfo("grid_map %dx%d: %d known cells, %d differ from map_assembler's", mine.info.width,
                       mine.info.height, known, differ)
         self.assertGreater(known, 1000)
-        # Same grids, same final poses; the two only differ by the nodes each left in place
-        # because they moved less than GridGlobal/UpdateError (1 cm) at some update. The node's
-        # grid follows every update, the assembler's worker the updates it did not coalesce (a
-        # node moving 0.6 cm twice stays in one, moves in the other): up to ~0.5% seen.
-        self.assertLessEqual(differ, 0.01 * known)
+        # Same local grids, same final poses, and GridGlobal/UpdateError 0 in both (every node
+        # that moved is re-placed), so neither depends on which updates it assembled (the
+        # assembler's worker coalesces some): equal, 0 cells differ in every run seen. With the
+        # default 1 cm, nodes nudged under it stay where each happened to place them: up to 1.9%
+        # differed under load.
+        self.assertLessEqual(differ, 0.001 * known)
 
         cloud, theirs_cloud = self.latest("/cloud_map"), self.latest("/assembler/cloud_map")
-        self.assertLessEqual(abs(cloud.width - theirs_cloud.width), 0.01 * cloud.width)
+        self.assertLessEqual(abs(cloud.width - theirs_cloud.width), 0.001 * cloud.width)
         octomap = self.latest("/assembler/octomap_binary")
         occupied, _, _ = decode_binary_octree(octomap.data)
         rospy.loginfo("map_assembler: cloud_map %d points (node %d), octomap %d occupied leaves", theirs_cloud.width,
