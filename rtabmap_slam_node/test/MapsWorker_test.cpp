@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "TestGrids.h"
 #include "rtabmap_slam_node/MapsHandover.h"
 
 namespace rtabmap_slam_node {
@@ -26,20 +27,7 @@ namespace {
 using rtabmap::Transform;
 using namespace std::chrono_literals;
 
-// A node's grid: a wall of obstacle cells 1 m ahead and ground up to it (base frame, 5 cm cells).
-rtabmap::LocalGrid wallAhead() {
-  rtabmap::Cloud obstacles, ground;
-  for (int j = 0; j < 8; ++j) {
-    const float y = 0.025f + 0.05f * j;
-    for (int k = 0; k < 8; ++k) obstacles.push_back(cv::Point3f(1.025f, y, 0.025f + 0.05f * k));
-    for (int i = 0; i < 20; ++i) ground.push_back(cv::Point3f(0.025f + 0.05f * i, y, 0.0f));
-  }
-  rtabmap::LocalGrid g;
-  g.obstacles = rtabmap::cellsFromCloud(obstacles, false);
-  g.ground = rtabmap::cellsFromCloud(ground, false);
-  g.cellSize = 0.05f;
-  return g;
-}
+using test::wallAhead;
 
 MapsWanted cloudOnly() {
   MapsWanted w;

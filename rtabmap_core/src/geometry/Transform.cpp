@@ -45,7 +45,7 @@ Transform::Transform(double x, double y, double z, double qx, double qy, double 
   if (!(n > 1e-12) || !std::isfinite(n)) {
     throw std::invalid_argument("Transform: quaternion (" + std::to_string(qx) + ", " +
                                 std::to_string(qy) + ", " + std::to_string(qz) + ", " +
-                                std::to_string(qw) + ") has no valid norm");
+                                std::to_string(qw) + ") is zero or not finite: it has no valid norm");
   }
   q.coeffs() /= n;
   iso_.linear() = q.toRotationMatrix();

@@ -4,18 +4,18 @@
 
 #include <cmath>
 
+#include "PoseOnlyFrames.h"
 #include "common/TestData.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 
 namespace rtabmap {
 namespace {
 
-using Cov = Eigen::Matrix<double, 6, 6>;
+using test::along;
+using test::everyFrame;
+using test::frame;
+using test::smallCov;
 
-Cov smallCov() { return Cov::Identity() * 1e-4; }
-SensorData frame(int id, double stamp) { return SensorData(LaserScan(), id, stamp); }
-Transform along(double x, double yaw = 0.0) { return Transform(x, 0, 0, 0, 0, yaw); }
-ParametersMap everyFrame() { return {{"Rtabmap/DetectionRate", "0"}}; }
 ParametersMap localization() { return {{"Rtabmap/DetectionRate", "0"}, {"Mem/IncrementalMemory", "false"}}; }
 
 void expectNear(const Transform& a, const Transform& b, double tolerance = 1e-6) {

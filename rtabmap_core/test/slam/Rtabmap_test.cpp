@@ -9,6 +9,7 @@
 #include <fstream>
 #include <thread>
 
+#include "PoseOnlyFrames.h"
 #include "common/TestData.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/db/Database.h"
@@ -17,16 +18,11 @@
 namespace rtabmap {
 namespace {
 
-using Cov = Eigen::Matrix<double, 6, 6>;
-
-Cov smallCov() { return Cov::Identity() * 1e-4; }
-
-// A pose-only frame (no images, no scan): a node of the graph without appearance.
-SensorData frame(int id, double stamp) { return SensorData(LaserScan(), id, stamp); }
-
-Transform along(double x, double yaw = 0.0) { return Transform(x, 0, 0, 0, 0, yaw); }
-
-ParametersMap everyFrame() { return {{"Rtabmap/DetectionRate", "0"}}; }
+using test::along;
+using test::Cov;
+using test::everyFrame;
+using test::frame;
+using test::smallCov;
 
 TEST(Rtabmap, RefusesBadOdometryWithAReason) {
   Rtabmap slam;
