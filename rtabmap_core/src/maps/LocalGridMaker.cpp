@@ -171,6 +171,12 @@ void cloudGrid(const SensorData& data, bool useDepth, bool useScan, const LocalG
     seg = segmentGroundByHeight(cloud, o);
     timer.lap("segmentation");
   }
+  // A laser has no colour: with a coloured depth cloud, its points are painted white (as
+  // RTAB-Map does) so the camera's colours survive the merge instead of the whole cloud losing
+  // them (Cloud::append keeps colours only when both sides have them).
+  if (scanAsObstacles && !scanCloud.hasColors() && (seg.obstacles.hasColors() || seg.ground.hasColors())) {
+    scanCloud.colors.assign(scanCloud.size(), cv::Vec3b(255, 255, 255));
+  }
   seg.obstacles.append(scanCloud);
   if (o.noiseFilteringRadius > 0.0f) {
     int g = 0, ob = 0;

@@ -258,6 +258,22 @@ TEST(LocalGridDepth, BothSensorsAddScanPointsAsObstacles) {
   ASSERT_TRUE(r.success) << r.why;
   EXPECT_EQ(r.source, "depth+scan");
   EXPECT_GE(countIn(r.grid.obstacles, 2.9, -0.35, 3.1, 0.35, 0.25, 0.35), 5);
+  // The camera's colours survive the laser's colourless points; those are white.
+  ASSERT_EQ(r.grid.obstacles.channels(), 4);
+  ASSERT_EQ(r.grid.ground.channels(), 4);
+  int white = 0, red = 0;
+  const float* p = r.grid.obstacles.ptr<float>();
+  for (size_t i = 0; i < r.grid.obstacles.total(); ++i, p += 4) {
+    const cv::Vec3b c = unpackRgb(p[3]);
+    const bool laserWall = p[0] > 2.9f && p[0] < 3.1f && std::abs(p[1]) < 0.35f && p[2] > 0.25f && p[2] < 0.35f;
+    if (laserWall) {
+      EXPECT_EQ(c, cv::Vec3b(255, 255, 255)) << "laser point " << p[0] << " " << p[1] << " " << p[2];
+      ++white;
+    }
+    if (c == cv::Vec3b(255, 0, 0)) ++red;  // the box (BGR 0 0 255 in the image)
+  }
+  EXPECT_GE(white, 5);
+  EXPECT_GT(red, 10);
 }
 
 TEST(LocalGridDepth, DepthDecimationAndRoiReduceThePixelsRead) {
