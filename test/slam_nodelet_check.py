@@ -8,6 +8,7 @@ import unittest
 
 import rospy
 import rostest
+from nav_msgs.msg import OccupancyGrid
 from nav_msgs.srv import GetMap
 from rosgraph_msgs.msg import Log
 from rtabmap_ros.msg import Info, MapGraph
@@ -21,7 +22,8 @@ PKG = "rtabmap_ros"
 
 class SlamNodeletTest(unittest.TestCase):
     def setUp(self):
-        self.info, self.graphs, self.logs = [], [], []
+        self.info, self.graphs, self.logs, self.assembled = [], [], [], []
+        rospy.Subscriber("/assembler/grid_map", OccupancyGrid, self.assembled.append)
         rospy.Subscriber("/info", Info, self.info.append)
         rospy.Subscriber("/mapGraph", MapGraph, self.graphs.append)
         rospy.Subscriber("/rosout", Log, self.logs.append)
@@ -65,6 +67,20 @@ class SlamNodeletTest(unittest.TestCase):
         for l in neighbours:
             self.assertTrue(all(v == v for v in l.information))
             self.assertGreater(l.information[0], 0.0)
+
+        # The map_assembler nodelet (same manager) followed the updates: its grid is of the
+        # graph's last update and shows the walls and the free space between them.
+        self.assertTrue(common.wait_for(lambda: self.assembled and
+                                        self.assembled[-1].header.stamp >= graph.header.stamp, 10.0),
+                        "the map_assembler nodelet did not publish the last update's grid")
+        grid = self.assembled[-1]
+        occupied = sum(1 for v in grid.data if v == 100)
+        free = sum(1 for v in grid.data if v == 0)
+        rospy.loginfo("map_assembler nodelet: grid %dx%d, %d occupied, %d free cells", grid.info.width,
+                      grid.info.height, occupied, free)
+        self.assertEqual(grid.header.frame_id, "map")
+        self.assertGreater(occupied, 100)
+        self.assertGreater(free, 1000)
 
 
 if __name__ == "__main__":
