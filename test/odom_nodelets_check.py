@@ -3,6 +3,7 @@
 nodes answer their services, track a synthetic room scan, report textureless images as lost
 (null pose, 9999 covariance), and survive bad input with a clear error."""
 import math
+import os
 import select
 import subprocess
 import sys
@@ -122,15 +123,14 @@ class OdomNodelets(unittest.TestCase):
         rospy.ServiceProxy(base + "reset_odom", Empty)()
         rospy.ServiceProxy(base + "reset_odom_to_pose", ResetPose)(x=1.0, y=2.0, z=0, roll=0, pitch=0, yaw=0)
 
-    def misspelled_parameters(self):
-        """A node started with misspelled keys warns naming each and the closest one (the
-        launch-time lines came before this check could listen, so it starts its own node)."""
-        node = subprocess.Popen(["rosrun", oc.PKG, "icp_odometry", "__name:=typo", "__ns:=/typo",
-                                 "_Odom/Stratgy:=1", "_odom_frameid:=odom2", "_Icp/VoxelSize:=-1"],
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        expected = ['unknown parameter "Odom/Stratgy" ignored (did you mean "Odom/Strategy"?)',
-                    'unknown parameter "odom_frameid" ignored (did you mean "odom_frame_id"?)',
-                    '"Icp/VoxelSize" = "-1" ignored']
+    def startup_lines(self, name, params, expected):
+        """Starts icp_odometry as its own node (launch-time lines came before this check could
+        listen) with private `params`, and returns what it printed once every `expected` line
+        came, or after 30 s."""
+        node = subprocess.Popen(["rosrun", oc.PKG, "icp_odometry", "__name:=" + name, "__ns:=/" + name] +
+                                ["_%s:=%s" % kv for kv in params],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                env=dict(os.environ, ROSCONSOLE_STDOUT_LINE_BUFFERED="1"))  # INFO: stdout
         text = ""
         try:
             end = time.time() + 30
@@ -144,8 +144,36 @@ class OdomNodelets(unittest.TestCase):
         finally:
             node.terminate()
             node.wait(timeout=10)
+        return text
+
+    def misspelled_parameters(self):
+        """A node started with misspelled keys warns naming each and the closest one."""
+        expected = ['unknown parameter "Odom/Stratgy" ignored (did you mean "Odom/Strategy"?)',
+                    'unknown parameter "odom_frameid" ignored (did you mean "odom_frame_id"?)',
+                    '"Icp/VoxelSize" = "-1" ignored']
+        text = self.startup_lines("typo", [("Odom/Stratgy", 1), ("odom_frameid", "odom2"), ("Icp/VoxelSize", -1)],
+                                  expected)
         for e in expected:
             self.assertIn(e, text)
+
+    def config_path(self):
+        """config_path: the INI's core parameters reach the odometry (Odom/Strategy 1: scan to
+        scan), private parameters override them, and a missing file is an error the node
+        survives with the defaults (scan to map)."""
+        ini = os.path.join(oc.workdir(self, "odom_config_"), "odom.ini")
+        with open(ini, "w") as f:
+            f.write("[Core]\nOdom/Strategy = 1\n")
+        text = self.startup_lines("ini", [("config_path", ini)], ["S2S odometry"])
+        self.assertIn("1 core parameters from " + ini, text)
+        self.assertIn("S2S odometry", text)
+        text = self.startup_lines("ini_overridden", [("config_path", ini), ("Odom/Strategy", 0)], ["S2M odometry"])
+        self.assertIn("S2M odometry", text)
+        missing = ini + ".missing"
+        text = self.startup_lines("ini_missing", [("config_path", missing)], ["S2M odometry"])
+        self.assertIn("config_path: ", text)
+        self.assertIn(missing, text)
+        self.assertIn("the file is ignored", text)
+        self.assertIn("S2M odometry", text)
 
     def test_each_nodelet(self):
         pubs = [p for d in self.pubs.values() for p in d.values()]
@@ -208,6 +236,7 @@ class OdomNodelets(unittest.TestCase):
             self.assertTrue(oc.wait_for(lambda: any(m.header.stamp == rospy.Time(101.8) for m in self.got[k]), 10),
                             f"{k}: no odometry for the NaN depth frame")
         self.misspelled_parameters()
+        self.config_path()
 
         # Still running: every service answers, and the reset pose is where tracking restarts.
         for ns in self.namespaces:

@@ -30,7 +30,7 @@ const std::vector<std::string> kCommonParameters = {
     "publish_null_when_lost", "expected_update_rate", "max_update_rate", "subscribe_depth", "subscribe_rgb",
     "subscribe_rgbd", "subscribe_stereo", "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom_info",
     "subscribe_user_data", "subscribe_odom", "rgbd_cameras", "approx_sync", "approx_sync_max_interval",
-    "queue_size"};
+    "queue_size", "config_path"};
 
 rtabmap::Odometry::Type odometryType(const rtabmap::ParametersMap& parameters, bool lidar) {
   const bool frameToFrame =
@@ -114,10 +114,15 @@ rtabmap::ParametersMap OdometryNodelet::readCoreParameters(ros::NodeHandle& pnh)
   std::vector<std::string> warnings = rtabmap_odom::unknownNodeParameters(raw, known);
   warnings.insert(warnings.end(), core.warnings.begin(), core.warnings.end());
   for (const std::string& w : warnings) NODELET_WARN("%s: %s", getName().c_str(), w.c_str());
+  std::string configPath, error;
+  rtabmap::ParametersMap parameters = rtabmap_odom::configFileParameters(pnh, &configPath, &error);
+  if (!error.empty()) NODELET_ERROR("%s: config_path: %s; the file is ignored.", getName().c_str(), error.c_str());
+  else if (!configPath.empty()) NODELET_INFO("%s: %zu core parameters from %s", getName().c_str(), parameters.size(), configPath.c_str());
   for (const auto& [key, value] : core.parameters) {
     NODELET_INFO("%s: %s = %s", getName().c_str(), key.c_str(), value.c_str());
+    parameters[key] = value;  // private parameters override the INI file
   }
-  return core.parameters;
+  return parameters;
 }
 
 void OdometryNodelet::createOdometry(const rtabmap::ParametersMap& parameters) {

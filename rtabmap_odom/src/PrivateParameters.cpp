@@ -1,5 +1,8 @@
 #include "rtabmap_odom/PrivateParameters.h"
 
+#include "rtabmap_core/params/Parameters.h"
+#include "rtabmap_slam_node/SlamNodeSupport.h"
+
 #include <cctype>
 #include <optional>
 #include <sstream>
@@ -19,6 +22,21 @@ std::optional<std::string> asText(XmlRpc::XmlRpcValue& v) {
 }
 
 }  // namespace
+
+std::map<std::string, std::string> configFileParameters(const ros::NodeHandle& pnh, std::string* path,
+                                                        std::string* error) {
+  std::string configured;
+  pnh.param("config_path", configured, configured);
+  *path = rtabmap_slam_node::expandHome(configured);
+  error->clear();
+  if (path->empty()) return {};
+  try {
+    return rtabmap::Parameters::readIni(*path);
+  } catch (const std::exception& e) {
+    *error = e.what();
+    return {};
+  }
+}
 
 std::map<std::string, std::string> privateParameters(const ros::NodeHandle& pnh, std::vector<std::string>* odd) {
   std::map<std::string, std::string> out;

@@ -139,18 +139,10 @@ void RtabmapNodelet::readNodeParameters(ros::NodeHandle& pnh) {
 }
 
 rtabmap::ParametersMap RtabmapNodelet::readCoreParameters(ros::NodeHandle& pnh) {
-  rtabmap::ParametersMap parameters;
-  std::string configPath;
-  pnh.param("config_path", configPath, configPath);
-  configPath = rtabmap_slam_node::expandHome(configPath);
-  if (!configPath.empty()) {
-    try {
-      parameters = rtabmap::Parameters::readIni(configPath);
-      NODELET_INFO("%s: %zu core parameters from %s", getName().c_str(), parameters.size(), configPath.c_str());
-    } catch (const std::exception& e) {
-      NODELET_ERROR("%s: config_path: %s; the file is ignored.", getName().c_str(), e.what());
-    }
-  }
+  std::string configPath, error;
+  rtabmap::ParametersMap parameters = rtabmap_odom::configFileParameters(pnh, &configPath, &error);
+  if (!error.empty()) NODELET_ERROR("%s: config_path: %s; the file is ignored.", getName().c_str(), error.c_str());
+  else if (!configPath.empty()) NODELET_INFO("%s: %zu core parameters from %s", getName().c_str(), parameters.size(), configPath.c_str());
   const std::map<std::string, std::string> raw = rtabmap_odom::privateParameters(pnh);
   rtabmap_odom::CoreParameters core = rtabmap_odom::coreParametersFromPrivate(raw);
   std::vector<std::string> warnings = rtabmap_odom::unknownNodeParameters(raw, kNodeParameters);
