@@ -1,11 +1,11 @@
 #include "rtabmap_core/features/StereoCorrespondences.h"
 
-#include <opencv2/video/tracking.hpp>
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
+#include "RowFlow.h"
 #include "rtabmap_core/geometry/StereoCameraModel.h"
 
 namespace rtabmap {
@@ -31,7 +31,7 @@ bool StereoOptions::IsValid(std::string* why) const {
   };
   if (winWidth < 1 || winHeight < 1) return fail("Stereo/WinWidth and Stereo/WinHeight must be at least 1");
   if (opticalFlow && (winWidth < 3 || winHeight < 3)) {
-    // Lucas-Kanade needs a gradient in both directions inside its window.
+    // A window of one or two pixels has no centre and no texture to track.
     return fail("with Stereo/OpticalFlow, Stereo/WinWidth and Stereo/WinHeight must be at least 3");
   }
   if (iterations < 1) return fail("Stereo/Iterations must be at least 1");
@@ -42,7 +42,6 @@ bool StereoOptions::IsValid(std::string* why) const {
     return fail("Stereo/MaxDisparity (" + std::to_string(maxDisparity) +
                 ") must be greater than Stereo/MinDisparity (" + std::to_string(minDisparity) + ")");
   }
-  if (!(maxVerticalError > 0.0f)) return fail("the stereo vertical error bound must be positive");
   return true;
 }
 
@@ -106,21 +105,16 @@ std::vector<float> computeStereoDisparities(const cv::Mat& leftGrey, const cv::M
     }
     return disparities;
   }
-  std::vector<cv::Point2f> rightPoints = leftPoints;
-  std::vector<unsigned char> status;
-  std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(
-      leftGrey, rightGrey, leftPoints, rightPoints, status, error,
-      cv::Size(options.winWidth, options.winHeight), options.maxLevel,
-      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.iterations, options.eps),
-      cv::OPTFLOW_USE_INITIAL_FLOW);
+  features_detail::RowFlowOptions flow;
+  flow.winWidth = options.winWidth;
+  flow.winHeight = options.winHeight;
+  flow.iterations = options.iterations;
+  flow.maxLevel = options.maxLevel;
+  flow.eps = options.eps;
+  const std::vector<float> tracked = features_detail::rowFlowDisparities(leftGrey, rightGrey, leftPoints, flow);
   for (size_t i = 0; i < leftPoints.size(); ++i) {
-    if (!status[i]) continue;
-    const float d = leftPoints[i].x - rightPoints[i].x;
-    const float dy = std::fabs(leftPoints[i].y - rightPoints[i].y);
-    if (d > 0.0f && d >= options.minDisparity && d <= options.maxDisparity && dy <= options.maxVerticalError) {
-      disparities[i] = d;
-    }
+    const float d = tracked[i];
+    if (d > 0.0f && d >= options.minDisparity && d <= options.maxDisparity) disparities[i] = d;
   }
   return disparities;
 }

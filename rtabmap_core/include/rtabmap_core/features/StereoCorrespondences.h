@@ -3,11 +3,11 @@
 // disparity per keypoint and its depth = fx * baseline / disparity.
 //
 // Two ways, chosen by Stereo/OpticalFlow: pyramidal Lucas-Kanade optical flow from the left to
-// the right image (Bouguet's pyramidal implementation of Lucas & Kanade), which follows the
-// texture to sub-pixel accuracy, or block matching along the same row (SSD or SAD). Either way
-// a match is rejected when its disparity is not positive, outside [Stereo/MinDisparity,
-// Stereo/MaxDisparity], or (optical flow) when it strays more than 1 pixel off the row, since
-// rectified images put both views of a point on the same row.
+// the right image restricted to the row (rectified images put both views of a point on the same
+// row, so only the disparity is estimated, coarse to fine, to sub-pixel accuracy; a match whose
+// windows correlate under 0.8 is rejected), or block matching along the same row (SSD or SAD).
+// Either way a match is rejected when its disparity is not positive or outside
+// [Stereo/MinDisparity, Stereo/MaxDisparity].
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 
@@ -30,7 +30,6 @@ struct StereoOptions {
   bool ssd = true;            // block matching: sum of squared (true) or absolute differences
   float minDisparity = 0.5f;  // pixels
   float maxDisparity = 128.0f;
-  float maxVerticalError = 1.0f;  // pixels; rectified views of a point share a row
 
   static StereoOptions fromParameters(const ParametersMap& parameters);
   bool IsValid(std::string* why = nullptr) const;
