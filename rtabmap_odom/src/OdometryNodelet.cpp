@@ -30,7 +30,7 @@ const std::vector<std::string> kCommonParameters = {
     "publish_null_when_lost", "expected_update_rate", "max_update_rate", "subscribe_depth", "subscribe_rgb",
     "subscribe_rgbd", "subscribe_stereo", "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom_info",
     "subscribe_user_data", "subscribe_odom", "rgbd_cameras", "approx_sync", "approx_sync_max_interval",
-    "queue_size", "config_path"};
+    "queue_size", "config_path", "image_transport", "depth_image_transport"};
 
 rtabmap::Odometry::Type odometryType(const rtabmap::ParametersMap& parameters, bool lidar) {
   const bool frameToFrame =

@@ -38,7 +38,8 @@ const std::vector<std::string> kNodeParameters = {
     "tf_tolerance", "wait_for_transform_duration", "odom_tf_linear_variance", "odom_tf_angular_variance",
     "odom_covariance_cumulative", "odom_sensor_sync", "subscribe_depth", "subscribe_rgb", "subscribe_rgbd",
     "subscribe_stereo", "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom", "subscribe_odom_info",
-    "subscribe_user_data", "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size", "initial_pose"};
+    "subscribe_user_data", "rgbd_cameras", "approx_sync", "approx_sync_max_interval", "queue_size", "initial_pose",
+    "image_transport", "depth_image_transport"};
 
 }  // namespace
 

@@ -5,10 +5,13 @@
 #include <message_filters/synchronizer.h>
 
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <utility>
 
 #include "ErasedSync.h"
+#include "rtabmap_conversions/CompressedImageConversions.h"
+#include "rtabmap_conversions/ImageConversions.h"
 #include "rtabmap_sync/DropCounter.h"
 #include "rtabmap_sync/LogThrottle.h"
 
@@ -29,6 +32,8 @@ SubscribeOptions readSubscribeOptions(const ros::NodeHandle& pnh, const Subscrib
   pnh.param("approx_sync", o.approxSync, d.approxSync);
   pnh.param("approx_sync_max_interval", o.approxSyncMaxInterval, d.approxSyncMaxInterval);
   pnh.param("queue_size", o.queueSize, d.queueSize);
+  pnh.param("image_transport", o.imageTransport, d.imageTransport);
+  pnh.param("depth_image_transport", o.depthImageTransport, d.depthImageTransport);
   return o;
 }
 
@@ -58,6 +63,22 @@ void assign(SyncedData& d, const TopicSlot& slot, const detail::ErasedPtr& e) {
     case TopicKind::kOdom: d.odom = as<nav_msgs::Odometry>(e); break;
     case TopicKind::kOdomInfo: d.odomInfo = as<rtabmap_ros::OdomInfo>(e); break;
     case TopicKind::kUserData: d.userData = as<rtabmap_ros::UserData>(e); break;
+  }
+}
+
+// A compressed / compressedDepth image as the sensor_msgs/Image the raw transport would carry.
+std::optional<sensor_msgs::Image> decodeCompressed(const sensor_msgs::CompressedImage& m, bool depth, std::string* why) {
+  std::optional<cv::Mat> mat = rtabmap_conversions::compressedImageFromMsg(m, why);
+  if (!mat) return std::nullopt;
+  if (depth && mat->type() != CV_16UC1 && mat->type() != CV_32FC1) {
+    *why = "a depth image must decode to 16UC1 or 32FC1 (got " + std::to_string(mat->channels()) + " channel(s))";
+    return std::nullopt;
+  }
+  try {
+    return rtabmap_conversions::imageToMsg(*mat, m.header);
+  } catch (const std::exception& e) {  // a decoded type ROS images cannot carry
+    *why = e.what();
+    return std::nullopt;
   }
 }
 
@@ -98,8 +119,35 @@ struct DataSubscriber::Impl {
     subscribers.push_back(nh.subscribe<M>(slots[size_t(slot)].topic, uint32_t(options.queueSize), cb));
   }
 
+  // A compressed image decoded to the sensor_msgs/Image the synchroniser pairs; one that does
+  // not decode is dropped with a (throttled) error naming the topic.
+  void subscribeCompressed(ros::NodeHandle& nh, int slot, const std::string& topic) {
+    const bool depth = slots[size_t(slot)].kind == TopicKind::kDepthImage;
+    boost::function<void(const sensor_msgs::CompressedImageConstPtr&)> cb =
+        [this, slot, topic, depth](const sensor_msgs::CompressedImageConstPtr& m) {
+          std::string why;
+          std::optional<sensor_msgs::Image> image = decodeCompressed(*m, depth, &why);
+          if (!image) {
+            std::lock_guard<std::mutex> lock(mutex);
+            ++dropped;
+            if (errors.due(topic + " decode")) {
+              ROS_ERROR("%s: %s: cannot decode the image (format \"%s\"): %s; message dropped.", name.c_str(),
+                        topic.c_str(), m->format.c_str(), why.c_str());
+            }
+            return;
+          }
+          onMessage(slot, m->header.stamp, boost::make_shared<const sensor_msgs::Image>(std::move(*image)));
+        };
+    subscribers.push_back(nh.subscribe<sensor_msgs::CompressedImage>(topic, uint32_t(options.queueSize), cb));
+  }
+
   void subscribeSlot(ros::NodeHandle& nh, int i) {
-    switch (slots[size_t(i)].kind) {
+    const TopicSlot& slot = slots[size_t(i)];
+    if (slot.compressed()) {
+      subscribeCompressed(nh, i, status[size_t(i)].topic);
+      return;
+    }
+    switch (slot.kind) {
       case TopicKind::kRgbImage:
       case TopicKind::kDepthImage:
       case TopicKind::kLeftImage:
@@ -258,7 +306,11 @@ bool DataSubscriber::setup(ros::NodeHandle& nh, const std::string& name, const S
   // ApproximateTime leaves out the extra messages of a faster topic by design: not drops.
   d.drops = DropCounter(slots.size(), size_t(options_.queueSize) + 2, !options_.approxSync);
   d.lastDelivery = ros::WallTime::now();
-  for (const TopicSlot& s : slots) d.status.push_back({nh.resolveName(s.topic), messageType(s.kind), 0, 0.0});
+  for (const TopicSlot& s : slots) {
+    // Remappings apply to the base name ("rgb/image"), the transport's suffix comes after, as
+    // image_transport does.
+    d.status.push_back({transportTopic(s, nh.resolveName(s.topic)), messageType(s), 0, 0.0});
+  }
   if (slots.size() > 1) {
     d.sync = detail::makeErasedSync(int(slots.size()), options_.approxSync, options_.queueSize,
                                     options_.approxSyncMaxInterval,

@@ -57,7 +57,37 @@ void addCameraTopics(const SubscribeOptions& o, std::vector<TopicSlot>& slots) {
   }
 }
 
+bool isImage(TopicKind k) {
+  return k == TopicKind::kRgbImage || k == TopicKind::kDepthImage || k == TopicKind::kLeftImage ||
+         k == TopicKind::kRightImage;
+}
+
+// The transport of each image slot; false and *error for a name image_transport does not know.
+bool setTransports(const SubscribeOptions& o, std::vector<TopicSlot>& slots, std::string* error) {
+  const auto known = [](const std::string& t) { return t == "raw" || t == "compressed" || t == "compressedDepth"; };
+  std::string depth = o.depthImageTransport;
+  if (depth.empty()) depth = o.imageTransport == "compressed" ? "compressedDepth" : o.imageTransport;
+  for (const auto& [name, value] : {std::make_pair("image_transport", o.imageTransport),
+                                    std::make_pair("depth_image_transport", depth)}) {
+    if (!known(value)) {
+      return fail(error, std::string(name) + " \"" + value + "\" is not a transport this node reads (raw, compressed, compressedDepth)");
+    }
+  }
+  for (TopicSlot& s : slots) {
+    if (isImage(s.kind)) s.transport = s.kind == TopicKind::kDepthImage ? depth : o.imageTransport;
+  }
+  return true;
+}
+
 }  // namespace
+
+const char* messageType(const TopicSlot& slot) {
+  return slot.compressed() ? "sensor_msgs/CompressedImage" : messageType(slot.kind);
+}
+
+std::string transportTopic(const TopicSlot& slot, const std::string& resolved) {
+  return slot.compressed() ? resolved + "/" + slot.transport : resolved;
+}
 
 const char* messageType(TopicKind kind) {
   switch (kind) {
@@ -88,6 +118,7 @@ std::vector<TopicSlot> selectTopics(const SubscribeOptions& o, std::string* erro
   if (o.subscribeOdom) slots.push_back({TopicKind::kOdom, "odom"});
   if (o.subscribeOdomInfo) slots.push_back({TopicKind::kOdomInfo, "odom_info"});
   if (o.subscribeUserData) slots.push_back({TopicKind::kUserData, "user_data"});
+  if (!setTransports(o, slots, error)) return {};
   if (slots.empty()) {
     fail(error, "no input: set one of subscribe_depth, subscribe_rgb, subscribe_rgbd, subscribe_stereo, "
                 "subscribe_scan, subscribe_scan_cloud, subscribe_odom");

@@ -30,6 +30,8 @@ class RGBDSyncNodelet : public nodelet::Nodelet {
     pnh.param("approx_sync", options.approxSync, true);
     pnh.param("approx_sync_max_interval", options.approxSyncMaxInterval, 0.0);
     pnh.param("queue_size", options.queueSize, 10);
+    pnh.param("image_transport", options.imageTransport, options.imageTransport);
+    pnh.param("depth_image_transport", options.depthImageTransport, options.depthImageTransport);
     pnh.param("depth_scale", frameOptions_.depthScale, 1.0);
     pnh.param("decimation", frameOptions_.decimation, 1);
     double compressedRate = 0.0;

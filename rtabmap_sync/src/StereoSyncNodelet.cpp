@@ -29,6 +29,7 @@ class StereoSyncNodelet : public nodelet::Nodelet {
     pnh.param("approx_sync", options.approxSync, false);
     pnh.param("approx_sync_max_interval", options.approxSyncMaxInterval, 0.0);
     pnh.param("queue_size", options.queueSize, 10);
+    pnh.param("image_transport", options.imageTransport, options.imageTransport);
     double compressedRate = 0.0;
     pnh.param("compressed_rate", compressedRate, compressedRate);
     publisher_.advertise(nh, compressedRate);

@@ -138,5 +138,54 @@ TEST(SyncTopics, WarningBlamesStampsWhenEveryTopicArrives) {
   EXPECT_NE(text.find("too far apart for the sync policy"), std::string::npos) << text;
 }
 
+TEST(SyncTopics, ImageTransportsPickTheCompressedTopics) {
+  SubscribeOptions o;
+  o.subscribeDepth = true;
+  o.subscribeScan = true;
+  std::vector<TopicSlot> raw = selectTopics(o);
+  for (const TopicSlot& s : raw) EXPECT_FALSE(s.compressed()) << s.topic;
+
+  // "compressed" reads the colour image as jpeg/png and the depth as compressedDepth.
+  o.imageTransport = "compressed";
+  std::vector<TopicSlot> slots = selectTopics(o);
+  ASSERT_EQ(slots.size(), 4u);
+  EXPECT_EQ(slots[0].transport, "compressed");
+  EXPECT_EQ(slots[1].transport, "compressedDepth");
+  EXPECT_FALSE(slots[2].compressed());  // camera_info
+  EXPECT_FALSE(slots[3].compressed());  // scan
+  EXPECT_STREQ(messageType(slots[0]), "sensor_msgs/CompressedImage");
+  EXPECT_STREQ(messageType(slots[2]), "sensor_msgs/CameraInfo");
+  // The suffix follows the resolved (remapped) base name, as image_transport does.
+  EXPECT_EQ(transportTopic(slots[0], "/camera/rgb/image_rect_color"), "/camera/rgb/image_rect_color/compressed");
+  EXPECT_EQ(transportTopic(slots[1], "/camera/depth/image"), "/camera/depth/image/compressedDepth");
+  EXPECT_EQ(transportTopic(slots[2], "/camera/rgb/camera_info"), "/camera/rgb/camera_info");
+
+  // The depth transport on its own; stereo images follow image_transport.
+  o.imageTransport = "raw";
+  o.depthImageTransport = "compressedDepth";
+  slots = selectTopics(o);
+  EXPECT_FALSE(slots[0].compressed());
+  EXPECT_EQ(slots[1].transport, "compressedDepth");
+  SubscribeOptions stereo;
+  stereo.subscribeStereo = true;
+  stereo.imageTransport = "compressed";
+  slots = selectTopics(stereo);
+  EXPECT_EQ(slots[0].transport, "compressed");
+  EXPECT_EQ(slots[1].transport, "compressed");
+}
+
+TEST(SyncTopics, UnknownImageTransportIsAnErrorNamingIt) {
+  SubscribeOptions o;
+  o.subscribeDepth = true;
+  o.imageTransport = "theora";
+  std::string error;
+  EXPECT_TRUE(selectTopics(o, &error).empty());
+  EXPECT_NE(error.find("image_transport \"theora\""), std::string::npos) << error;
+  o.imageTransport = "raw";
+  o.depthImageTransport = "png";
+  EXPECT_TRUE(selectTopics(o, &error).empty());
+  EXPECT_NE(error.find("depth_image_transport \"png\""), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace rtabmap_sync

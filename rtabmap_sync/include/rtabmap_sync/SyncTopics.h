@@ -10,6 +10,13 @@
 //   subscribe_rgb     rgb/image, rgb/camera_info (monocular)
 // Other inputs: subscribe_scan -> scan, subscribe_scan_cloud -> scan_cloud (not both),
 // subscribe_odom -> odom, subscribe_odom_info -> odom_info, subscribe_user_data -> user_data.
+//
+// Image transports, as image_transport names them (Debian ships no transport plugins, so the
+// compressed ones are decoded here): image_transport "raw" (default), "compressed" or
+// "compressedDepth" for the rgb / left / right images; depth_image_transport for the depth
+// image, which follows image_transport by default ("compressed" becomes "compressedDepth", the
+// only lossless depth transport). A compressed image is read from <resolved topic>/<transport>
+// as a sensor_msgs/CompressedImage.
 #include <string>
 #include <vector>
 
@@ -40,20 +47,29 @@ struct SubscribeOptions {
   bool approxSync = true;
   int queueSize = 10;
   double approxSyncMaxInterval = 0.0;  // seconds; 0 = no limit on a set's stamp spread
+  std::string imageTransport = "raw";      // image_transport
+  std::string depthImageTransport;         // depth_image_transport; empty: from imageTransport
 };
 
 struct TopicSlot {
   TopicKind kind;
   std::string topic;  // relative to the node's namespace, as the classic nodes name them
   int camera = 0;     // index of the RGB-D camera for kRgbdImage
+  std::string transport = "raw";  // images: raw, compressed or compressedDepth
+  bool compressed() const { return transport != "raw"; }
 };
+
+// The ROS message type of a slot: a compressed image is a sensor_msgs/CompressedImage.
+const char* messageType(const TopicSlot& slot);
+// The topic a slot is read from, given its resolved name: <resolved>/<transport> when compressed.
+std::string transportTopic(const TopicSlot& slot, const std::string& resolved);
 
 // message_filters synchronises at most this many topics.
 constexpr int kMaxSyncedTopics = 9;
 
 // The topics in a fixed order (camera, scan, odom, odom_info, user_data). An empty vector and
 // *error when the options conflict (two camera modes, scan and scan_cloud, rgbd_cameras < 0,
-// more than kMaxSyncedTopics topics) or ask for nothing.
+// more than kMaxSyncedTopics topics, an unknown image transport) or ask for nothing.
 std::vector<TopicSlot> selectTopics(const SubscribeOptions& options, std::string* error = nullptr);
 
 // "approx sync, queue 10, max interval 0.020 s" / "exact sync, queue 10".
