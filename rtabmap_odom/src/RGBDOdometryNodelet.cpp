@@ -28,8 +28,7 @@ class RGBDOdometryNodelet : public OdometryNodelet {
 
   std::optional<rtabmap::SensorData> makeFrame(const rtabmap_sync::SyncedData& d, std::string* error) override {
     if (d.rgb) return fromTopics(d, error);
-    if (d.rgbdImagesMsg) return fromRgbdImages(*d.rgbdImagesMsg, error);
-    if (d.rgbdImages.size() == 1) {
+    if (!d.rgbdImagesMsg && d.rgbdImages.size() == 1) {
       const rtabmap_ros::RGBDImage& msg = *d.rgbdImages.front();
       const rtabmap::Transform local = sensorPose(msg.header.frame_id, msg.header.stamp, error);
       if (local.isNull()) return std::nullopt;
@@ -38,10 +37,11 @@ class RGBDOdometryNodelet : public OdometryNodelet {
       if (!frame && error) *error = "rgbd_image: " + why;
       return frame;
     }
-    rtabmap_ros::RGBDImages bundle;
-    bundle.header = d.rgbdImages.front()->header;
-    for (const auto& m : d.rgbdImages) bundle.rgbd_images.push_back(*m);
-    return fromRgbdImages(bundle, error);
+    // Several cameras side by side (rgbd_cameras N > 1 or 0), each placed by tf at its frame.
+    const auto poseOf = [this](const std::string& frameId, const ros::Time& stamp, std::string* why) {
+      return sensorPose(frameId, stamp, why);
+    };
+    return rtabmap_sync::rgbdCamerasFrame(d.rgbdImagesMsg, d.rgbdImages, poseOf, error);
   }
 
   // rgb/image + depth/image + rgb/camera_info, placed on the robot through tf.
@@ -53,18 +53,6 @@ class RGBDOdometryNodelet : public OdometryNodelet {
     std::vector<rtabmap::CameraModel> models = frame->cameraModels();
     for (rtabmap::CameraModel& m : models) m.setLocalTransform(local);
     frame->setRGBDImage(frame->imageRaw(), frame->depthOrRightRaw(), models);
-    return frame;
-  }
-
-  std::optional<rtabmap::SensorData> fromRgbdImages(const rtabmap_ros::RGBDImages& msg, std::string* error) {
-    std::vector<rtabmap::Transform> locals;
-    for (const rtabmap_ros::RGBDImage& image : msg.rgbd_images) {
-      locals.push_back(sensorPose(image.header.frame_id, image.header.stamp, error));
-      if (locals.back().isNull()) return std::nullopt;
-    }
-    std::string why;
-    auto frame = rtabmap_conversions::rgbdImagesFromMsg(msg, locals, &why);
-    if (!frame && error) *error = "rgbd_images: " + why;
     return frame;
   }
 

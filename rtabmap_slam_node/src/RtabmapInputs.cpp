@@ -102,8 +102,12 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
       return std::nullopt;
     }
   } else if (!d.rgbdImages.empty() || d.rgbdImagesMsg) {
-    *error = "several RGB-D cameras are not supported yet by the SLAM node (rgbd_cameras must be 1)";
-    return std::nullopt;
+    // Several cameras side by side (rgbd_cameras N > 1 or 0), each placed by tf at its frame.
+    const auto poseOf = [&](const std::string& frameId, const ros::Time& stamp, std::string* why) {
+      return syncedSensorPose(d, frameId, stamp, why);
+    };
+    frame = rtabmap_sync::rgbdCamerasFrame(d.rgbdImagesMsg, d.rgbdImages, poseOf, error);
+    if (!frame) return std::nullopt;
   } else {
     frame = rtabmap::SensorData();
   }

@@ -6,6 +6,7 @@
 #include "rtabmap_conversions/ImageConversions.h"
 #include "rtabmap_conversions/LaserScanConversions.h"
 #include "rtabmap_conversions/PointCloudConversions.h"
+#include "rtabmap_conversions/RGBDImageConversions.h"
 
 namespace rtabmap_sync {
 
@@ -130,6 +131,28 @@ std::optional<rtabmap::LaserScan> syncedScan(const sensor_msgs::LaserScanConstPt
                                                : rtabmap_conversions::laserScanFromCloudMsg(*cloud, local, &why);
   if (!out && error) *error = std::string(scan ? "scan" : "scan_cloud") + ": " + why;
   return out;
+}
+
+std::optional<rtabmap::SensorData> rgbdCamerasFrame(const rtabmap_ros::RGBDImagesConstPtr& bundle,
+                                                    const std::vector<rtabmap_ros::RGBDImageConstPtr>& images,
+                                                    const SensorPoseFn& sensorPose, std::string* error) {
+  rtabmap_ros::RGBDImages cameras;
+  if (bundle) {
+    cameras = *bundle;
+  } else {
+    if (images.empty()) return fail(error, "no RGB-D camera in the synchronised set");
+    cameras.header = images.front()->header;
+    for (const auto& m : images) cameras.rgbd_images.push_back(*m);
+  }
+  std::vector<rtabmap::Transform> locals;
+  for (const rtabmap_ros::RGBDImage& image : cameras.rgbd_images) {
+    locals.push_back(sensorPose(image.header.frame_id, image.header.stamp, error));
+    if (locals.back().isNull()) return std::nullopt;
+  }
+  std::string why;
+  std::optional<rtabmap::SensorData> frame = rtabmap_conversions::rgbdImagesFromMsg(cameras, locals, &why);
+  if (!frame && error) *error = "rgbd_images: " + why;
+  return frame;
 }
 
 }  // namespace rtabmap_sync

@@ -93,19 +93,23 @@ std::unique_ptr<FeatureDetector> FeatureDetector::create(const ParametersMap& pa
 }
 
 std::vector<cv::KeyPoint> FeatureDetector::detect(const cv::Mat& image, const cv::Mat& mask) const {
-  std::vector<cv::KeyPoint> keypoints;
-  if (options_.maxFeatures < 0 || image.empty()) return keypoints;
+  if (options_.maxFeatures < 0 || image.empty()) return {};
   const cv::Mat grey = toGrey(image);
   if (grey.empty()) throw FormatError("feature detection needs an 8-bit grey, BGR or BGRA image");
   if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != grey.size())) {
     throw FormatError("feature detection mask must be CV_8UC1 of the image size");
   }
+  return detectUpTo(grey, mask, options_.maxFeatures);
+}
+
+std::vector<cv::KeyPoint> FeatureDetector::detectUpTo(const cv::Mat& grey, const cv::Mat& mask, int maxFeatures) const {
+  std::vector<cv::KeyPoint> keypoints;
   const cv::Rect roi = roiOf(grey.size(), options_.roiRatios);
   if (roi.area() <= 0) return keypoints;
   const int cells = options_.gridRows * options_.gridCols;
   // Each cell keeps its share of the strongest: features spread over the image constrain the
   // motion better than the same number bunched on the most textured object.
-  const int perCell = options_.maxFeatures > 0 ? std::max(1, options_.maxFeatures / cells) : 0;
+  const int perCell = maxFeatures > 0 ? std::max(1, maxFeatures / cells) : 0;
   for (int r = 0; r < options_.gridRows; ++r) {
     for (int c = 0; c < options_.gridCols; ++c) {
       const int x0 = roi.x + c * roi.width / options_.gridCols;
@@ -169,9 +173,7 @@ ImageFeatures FeatureDetector::extract(const SensorData& data, FeatureExtraction
   if (options_.maxFeatures < 0) return features;  // Kp/MaxFeatures < 0: no features wanted
 
   const cv::Mat& depthOrRight = data.depthOrRightRaw();
-  cv::Mat mask;
   cv::Mat rightGrey;
-  int decimation = 0;
   if (data.isStereo()) {
     const StereoCameraModel& model = data.stereoCameraModels().front();
     if (data.stereoCameraModels().size() > 1) return problem("several stereo cameras are not supported");
@@ -185,36 +187,20 @@ ImageFeatures FeatureDetector::extract(const SensorData& data, FeatureExtraction
       return problem("right image " + sizeText(depthOrRight.size()) + " (type " + std::to_string(depthOrRight.type()) +
                      ") does not match the left image " + sizeText(grey.size()));
     }
+  } else if (data.cameraModels().size() > 1) {
+    return extractSeveralCameras(data, grey, info);
   } else {
-    if (data.cameraModels().size() > 1) {
-      return problem(std::to_string(data.cameraModels().size()) +
-                     " cameras side by side: visual features support one camera per frame");
-    }
-    if (!data.cameraModels().empty() && !data.cameraModels().front().isValidForProjection()) {
-      const CameraModel& m = data.cameraModels().front();
-      return problem("camera model not valid for projection (fx " + std::to_string(m.fx()) + ", fy " +
-                     std::to_string(m.fy()) + ")");
-    }
-    if (!depthOrRight.empty()) {
-      if (depthOrRight.type() != CV_16UC1 && depthOrRight.type() != CV_32FC1) {
-        return problem("unsupported depth type " + std::to_string(depthOrRight.type()) +
-                       " (CV_16UC1 mm or CV_32FC1 m expected)");
-      }
-      decimation = depthDecimationFactor(grey.size(), depthOrRight.size());
-      if (decimation == 0) {
-        return problem("depth " + sizeText(depthOrRight.size()) + " does not match the image " +
-                       sizeText(grey.size()) + " (it must be the same size or smaller by a whole factor)");
-      }
-      if (options_.depthAsMask) {
-        int valid = 0;
-        mask = depthMask(depthOrRight, grey.size(), options_.minDepth, options_.maxDepth, &valid);
-        if (valid == 0) return problem("depth image has no valid pixel in range (all zero, NaN or out of range)");
-      }
-    }
+    const CameraModel* model = data.cameraModels().empty() ? nullptr : &data.cameraModels().front();
+    std::string why;
+    features = extractDepthCamera(grey, depthOrRight, model, options_.maxFeatures, info, &why);
+    if (!why.empty()) return problem(why);
+    info.with3D = features.validPoints3D();
+    return features;
   }
 
+  // Stereo: 3D points by matching each left keypoint along its row of the right image.
   Clock::time_point t0 = Clock::now();
-  features.keypoints = detect(grey, mask);
+  features.keypoints = detectUpTo(grey, cv::Mat(), options_.maxFeatures);
   info.detected = static_cast<int>(features.keypoints.size());
   info.timeDetectionMs = msSince(t0);
 
@@ -224,43 +210,137 @@ ImageFeatures FeatureDetector::extract(const SensorData& data, FeatureExtraction
   info.timeDescriptionMs = msSince(t0);
 
   t0 = Clock::now();
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  if (data.isStereo()) {
-    std::vector<cv::Point2f> left;
-    cv::KeyPoint::convert(features.keypoints, left);
-    const std::vector<float> disparities = computeStereoDisparities(grey, rightGrey, left, options_.stereo);
-    const StereoCameraModel& model = data.stereoCameraModels().front();
-    features.points3D = keypoints3DFromDisparities(features.keypoints, disparities, model);
-    // Drop keypoints measured outside the depth range; keep those without disparity (their 2D
-    // position still constrains a PnP estimate).
-    filterFeatures(features, [&](size_t i) {
-      if (!isFinitePoint(features.points3D[i])) return true;
-      const double depth = model.computeDepth(disparities[i]);
-      return (options_.minDepth <= 0.0f || depth >= options_.minDepth) &&
-             (options_.maxDepth <= 0.0f || depth <= options_.maxDepth);
-    });
-  } else if (decimation > 0 && !data.cameraModels().empty()) {
-    const CameraModel& model = data.cameraModels().front();
-    features.points3D.assign(features.keypoints.size(), cv::Point3f(nan, nan, nan));
-    std::vector<char> keep(features.keypoints.size(), 1);
-    const Eigen::Isometry3d& local = model.localTransform().toEigen();
-    for (size_t i = 0; i < features.keypoints.size(); ++i) {
-      const float d = keypointDepth(depthOrRight, features.keypoints[i].pt, decimation);
-      if (d <= 0.0f) continue;
-      if ((options_.minDepth > 0.0f && d < options_.minDepth) || (options_.maxDepth > 0.0f && d > options_.maxDepth)) {
-        keep[i] = 0;
-        continue;
-      }
-      double x, y, z;
-      if (!model.project(features.keypoints[i].pt.x, features.keypoints[i].pt.y, d, x, y, z)) continue;
-      const Eigen::Vector3d p = local * Eigen::Vector3d(x, y, z);
-      features.points3D[i] = cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-    }
-    filterFeatures(features, [&](size_t i) { return keep[i] != 0; });
-  }
+  std::vector<cv::Point2f> left;
+  cv::KeyPoint::convert(features.keypoints, left);
+  const std::vector<float> disparities = computeStereoDisparities(grey, rightGrey, left, options_.stereo);
+  const StereoCameraModel& model = data.stereoCameraModels().front();
+  features.points3D = keypoints3DFromDisparities(features.keypoints, disparities, model);
+  // Drop keypoints measured outside the depth range; keep those without disparity (their 2D
+  // position still constrains a PnP estimate).
+  filterFeatures(features, [&](size_t i) {
+    if (!isFinitePoint(features.points3D[i])) return true;
+    const double depth = model.computeDepth(disparities[i]);
+    return (options_.minDepth <= 0.0f || depth >= options_.minDepth) &&
+           (options_.maxDepth <= 0.0f || depth <= options_.maxDepth);
+  });
   info.with3D = features.validPoints3D();
   info.time3DMs = msSince(t0);
   return features;
+}
+
+ImageFeatures FeatureDetector::extractDepthCamera(const cv::Mat& grey, const cv::Mat& depth, const CameraModel* model,
+                                                  int maxFeatures, FeatureExtractionInfo& info,
+                                                  std::string* problem) const {
+  ImageFeatures features;
+  if (model && !model->isValidForProjection()) {
+    *problem = "camera model not valid for projection (fx " + std::to_string(model->fx()) + ", fy " +
+               std::to_string(model->fy()) + ")";
+    return features;
+  }
+  int decimation = 0;
+  cv::Mat mask;
+  if (!depth.empty()) {
+    if (depth.type() != CV_16UC1 && depth.type() != CV_32FC1) {
+      *problem = "unsupported depth type " + std::to_string(depth.type()) + " (CV_16UC1 mm or CV_32FC1 m expected)";
+      return features;
+    }
+    decimation = depthDecimationFactor(grey.size(), depth.size());
+    if (decimation == 0) {
+      *problem = "depth " + sizeText(depth.size()) + " does not match the image " + sizeText(grey.size()) +
+                 " (it must be the same size or smaller by a whole factor)";
+      return features;
+    }
+    if (options_.depthAsMask) {
+      int valid = 0;
+      mask = depthMask(depth, grey.size(), options_.minDepth, options_.maxDepth, &valid);
+      if (valid == 0) {
+        *problem = "depth image has no valid pixel in range (all zero, NaN or out of range)";
+        return features;
+      }
+    }
+  }
+
+  Clock::time_point t0 = Clock::now();
+  features.keypoints = detectUpTo(grey, mask, maxFeatures);
+  info.detected += static_cast<int>(features.keypoints.size());
+  info.timeDetectionMs += msSince(t0);
+
+  t0 = Clock::now();
+  features.descriptors = compute(grey, features.keypoints);
+  info.described += static_cast<int>(features.keypoints.size());
+  info.timeDescriptionMs += msSince(t0);
+  if (decimation == 0 || !model) return features;
+
+  t0 = Clock::now();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  features.points3D.assign(features.keypoints.size(), cv::Point3f(nan, nan, nan));
+  std::vector<char> keep(features.keypoints.size(), 1);
+  const Eigen::Isometry3d& local = model->localTransform().toEigen();
+  for (size_t i = 0; i < features.keypoints.size(); ++i) {
+    const float d = keypointDepth(depth, features.keypoints[i].pt, decimation);
+    if (d <= 0.0f) continue;
+    if ((options_.minDepth > 0.0f && d < options_.minDepth) || (options_.maxDepth > 0.0f && d > options_.maxDepth)) {
+      keep[i] = 0;
+      continue;
+    }
+    double x, y, z;
+    if (!model->project(features.keypoints[i].pt.x, features.keypoints[i].pt.y, d, x, y, z)) continue;
+    const Eigen::Vector3d p = local * Eigen::Vector3d(x, y, z);
+    features.points3D[i] = cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  }
+  filterFeatures(features, [&](size_t i) { return keep[i] != 0; });
+  info.time3DMs += msSince(t0);
+  return features;
+}
+
+ImageFeatures FeatureDetector::extractSeveralCameras(const SensorData& data, const cv::Mat& grey,
+                                                     FeatureExtractionInfo& info) const {
+  const std::vector<CameraModel>& models = data.cameraModels();
+  const int n = static_cast<int>(models.size());
+  const cv::Mat& depth = data.depthOrRightRaw();
+  auto problem = [&](const std::string& text) {
+    info.problem = text;
+    return ImageFeatures();
+  };
+  if (grey.cols % n != 0 || (!depth.empty() && depth.cols % n != 0)) {
+    return problem("image " + sizeText(grey.size()) + (depth.empty() ? "" : " or depth " + sizeText(depth.size())) +
+                   " does not split into " + std::to_string(n) + " side-by-side cameras of equal width");
+  }
+  for (int i = 0; i < n; ++i) {
+    const CameraModel& m = models[static_cast<size_t>(i)];
+    if (!m.isValidForProjection()) {
+      return problem("camera " + std::to_string(i) + " model not valid for projection (fx " + std::to_string(m.fx()) +
+                     ", fy " + std::to_string(m.fy()) + ")");
+    }
+  }
+  const int w = grey.cols / n;
+  const int dw = depth.cols / n;
+  // Per camera max / N (at least 1 each); 0 stays "no limit".
+  const int perCamera = options_.maxFeatures > 0 ? std::max(1, options_.maxFeatures / n) : 0;
+  ImageFeatures all;
+  std::vector<cv::Mat> descriptors;
+  std::string lastProblem;
+  for (int i = 0; i < n; ++i) {
+    const cv::Mat subDepth = depth.empty() ? cv::Mat() : depth.colRange(i * dw, (i + 1) * dw);
+    std::string why;
+    // A copy, not a view: detectors and descriptors read pixels around the ROI of a view, which
+    // here would be the neighbouring camera's.
+    const cv::Mat subGrey = grey.colRange(i * w, (i + 1) * w).clone();
+    ImageFeatures f = extractDepthCamera(subGrey, subDepth, &models[static_cast<size_t>(i)], perCamera, info, &why);
+    // A camera facing the void (no valid depth in range) costs its own features only.
+    if (!why.empty()) {
+      lastProblem = "camera " + std::to_string(i) + ": " + why;
+      continue;
+    }
+    for (cv::KeyPoint& k : f.keypoints) k.pt.x += static_cast<float>(i * w);
+    all.keypoints.insert(all.keypoints.end(), f.keypoints.begin(), f.keypoints.end());
+    all.points3D.insert(all.points3D.end(), f.points3D.begin(), f.points3D.end());
+    if (!f.descriptors.empty()) descriptors.push_back(f.descriptors);
+  }
+  if (all.keypoints.empty() && !lastProblem.empty()) return problem(lastProblem);
+  if (!descriptors.empty()) cv::vconcat(descriptors, all.descriptors);
+  info.with3D = all.validPoints3D();
+  return all;
 }
 
 }  // namespace rtabmap

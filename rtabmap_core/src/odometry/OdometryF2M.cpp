@@ -163,7 +163,12 @@ Transform OdometryF2M::Impl::addKeyFrame(const VisualFrame& frame, Transform pos
   map.trim(static_cast<size_t>(std::max(0, maxSize)), draft.keep);
   ++keyFramesAdded;
   info->keyFrameAdded = true;
-  if (bundleAdjustment == 3) {
+  // The key frames' observations are pixels of one camera model: with several cameras side
+  // by side the adjustment would project every point through the first camera, so it is skipped.
+  if (bundleAdjustment == 3 && frame.severalCameras()) {
+    RTABMAP_DEBUG("F2M local bundle adjustment skipped: it supports one camera per frame, this one has "
+                  << frame.models.size());
+  } else if (bundleAdjustment == 3) {
     const BundleAdjustmentSummary s = map.adjust(bundleMaxFrames, ba);
     if (s.success) {
       pose = map.keyFrames().back().pose;

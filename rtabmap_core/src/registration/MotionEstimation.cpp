@@ -1,5 +1,7 @@
 #include "rtabmap_core/registration/MotionEstimation.h"
 
+#include "rtabmap_core/registration/RegistrationVis.h"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -334,6 +336,151 @@ Eigen::Matrix<double, 6, 6> covarianceFromReprojection(const std::vector<cv::Poi
   const double sigmaLinear = kMadToSigma * median(metric);
   const double sigmaAngular = kMadToSigma * median(angular);
   return diagonalCovariance(sigmaLinear * sigmaLinear, sigmaAngular * sigmaAngular);
+}
+
+// ---- Multi-camera PnP ---------------------------------------------------------------------------
+
+namespace {
+
+// One correspondence of a multi-camera PnP: reference point, its pixel in its camera's
+// sub-image (offset removed), and that camera's base -> optical transform and intrinsics.
+struct CameraObservation {
+  Eigen::Vector3d point;
+  Eigen::Vector2d pixel;
+  int camera = 0;
+};
+
+struct PinholeCamera {
+  Eigen::Isometry3d opticalFromBase;
+  double fx, fy, cx, cy;
+};
+
+// Reprojection residual (pixels) of an observation under the new base pose T; false when the
+// point is behind its camera.
+bool reprojectionResidual(const Eigen::Isometry3d& T, const CameraObservation& o, const std::vector<PinholeCamera>& cams,
+                          Eigen::Vector2d& r) {
+  const PinholeCamera& c = cams[static_cast<size_t>(o.camera)];
+  const Eigen::Vector3d q = c.opticalFromBase * (T.inverse() * o.point);
+  if (q.z() <= 1e-6) return false;
+  r = Eigen::Vector2d(c.fx * q.x() / q.z() + c.cx, c.fy * q.y() / q.z() + c.cy) - o.pixel;
+  return true;
+}
+
+Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, const Eigen::Matrix<double, 6, 1>& d) {
+  Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
+  const double angle = d.tail<3>().norm();
+  if (angle > 0.0) D.linear() = Eigen::AngleAxisd(angle, d.tail<3>() / angle).toRotationMatrix();
+  D.translation() = d.head<3>();
+  return T * D;
+}
+
+std::vector<int> reprojectionInliers(const Eigen::Isometry3d& T, const std::vector<CameraObservation>& obs,
+                                     const std::vector<PinholeCamera>& cams, double maxError, double* rmse) {
+  std::vector<int> inliers;
+  double sum = 0.0;
+  Eigen::Vector2d r;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    if (!reprojectionResidual(T, obs[i], cams, r) || r.norm() > maxError) continue;
+    inliers.push_back(static_cast<int>(i));
+    sum += r.squaredNorm();
+  }
+  if (rmse) *rmse = inliers.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(inliers.size()));
+  return inliers;
+}
+
+// Gauss-Newton on the reprojection errors of the inliers (numerical Jacobian: six cheap
+// projections per point), the pose perturbed on the right (in the base frame).
+Eigen::Isometry3d refineReprojection(Eigen::Isometry3d T, const std::vector<CameraObservation>& obs,
+                                     const std::vector<int>& inliers, const std::vector<PinholeCamera>& cams) {
+  const double h = 1e-6;
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    Eigen::Vector2d r, rp;
+    for (int k : inliers) {
+      const CameraObservation& o = obs[static_cast<size_t>(k)];
+      if (!reprojectionResidual(T, o, cams, r)) continue;
+      Eigen::Matrix<double, 2, 6> J;
+      bool ok = true;
+      for (int j = 0; j < 6 && ok; ++j) {
+        Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+        d(j) = h;
+        ok = reprojectionResidual(perturbed(T, d), o, cams, rp);
+        J.col(j) = (rp - r) / h;
+      }
+      if (!ok) continue;
+      H += J.transpose() * J;
+      g += J.transpose() * r;
+    }
+    const Eigen::Matrix<double, 6, 1> step = H.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    T = perturbed(T, step);
+    if (step.norm() < 1e-9) break;
+  }
+  return T;
+}
+
+}  // namespace
+
+MotionEstimate estimateMotionMultiCameraPnP(const std::vector<cv::Point3f>& objectPoints,
+                                            const std::vector<cv::Point2f>& imagePoints,
+                                            const std::vector<cv::Point3f>& newPoints3D, const VisualFrame& to,
+                                            const PnPOptions& pnp, const RigidOptions& rigid) {
+  MotionEstimate result;
+  if (objectPoints.size() != imagePoints.size() || newPoints3D.size() != imagePoints.size()) {
+    result.rejectedMsg = "multi-camera PnP: one 3D point, pixel and new 3D point per correspondence expected";
+    return result;
+  }
+  std::vector<PinholeCamera> cams;
+  for (const CameraModel& m : to.models) {
+    if (!m.isValidForProjection()) {
+      result.rejectedMsg = "multi-camera PnP: a camera model is not valid for projection";
+      return result;
+    }
+    cams.push_back({m.localTransform().inverse().toEigen(), m.fx(), m.fy(), m.cx(), m.cy()});
+  }
+  std::vector<CameraObservation> obs;
+  std::vector<int> index;
+  const int w = to.cameraWidth();
+  for (size_t i = 0; i < objectPoints.size(); ++i) {
+    if (!finite3(objectPoints[i]) || !finite2(imagePoints[i])) continue;
+    CameraObservation o;
+    o.point = Eigen::Vector3d(objectPoints[i].x, objectPoints[i].y, objectPoints[i].z);
+    o.camera = to.cameraOf(imagePoints[i].x);
+    o.pixel = Eigen::Vector2d(imagePoints[i].x - static_cast<double>(o.camera) * w, imagePoints[i].y);
+    obs.push_back(o);
+    index.push_back(static_cast<int>(i));
+  }
+  if (static_cast<int>(obs.size()) < std::max(4, pnp.minInliers)) {
+    result.rejectedMsg = "multi-camera PnP: " + tooFew(static_cast<int>(obs.size()), "correspondences with a 3D point", pnp.minInliers);
+    return result;
+  }
+  // First hypothesis: the 3D->3D estimate from the new frame's own depth.
+  const MotionEstimate start = estimateMotion3DTo3D(objectPoints, newPoints3D, rigid);
+  if (start.transform.isNull()) {
+    result.rejectedMsg = "multi-camera PnP needs a 3D->3D first estimate, which failed: " + start.rejectedMsg;
+    return result;
+  }
+  // Its 3D inliers start the refinement: a few pixels of depth noise may put their
+  // reprojections just over Vis/PnPReprojError before it.
+  Eigen::Isometry3d T = start.transform.toEigen();
+  std::vector<int> inliers;
+  for (int i : start.inliers) {
+    const auto it = std::lower_bound(index.begin(), index.end(), i);
+    if (it != index.end() && *it == i) inliers.push_back(static_cast<int>(it - index.begin()));
+  }
+  for (int it = 0; it < std::max(1, pnp.refineIterations) + 1 && inliers.size() >= 4; ++it) {
+    T = refineReprojection(T, obs, inliers, cams);
+    inliers = reprojectionInliers(T, obs, cams, pnp.reprojError, nullptr);
+  }
+  if (static_cast<int>(inliers.size()) < pnp.minInliers || inliers.size() < 4) {
+    result.rejectedMsg = "multi-camera PnP: " + tooFew(static_cast<int>(inliers.size()), "inliers", pnp.minInliers);
+    return result;
+  }
+  reprojectionInliers(T, obs, cams, pnp.reprojError, &result.inlierRmse);
+  for (int i : inliers) result.inliers.push_back(index[static_cast<size_t>(i)]);
+  result.transform = Transform(T);
+  return result;
 }
 
 }  // namespace rtabmap

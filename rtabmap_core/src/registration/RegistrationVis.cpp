@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -34,23 +35,28 @@ cv::Point3f transformPoint(const Eigen::Isometry3d& T, const cv::Point3f& p) {
 }
 
 // Where each reference point falls in the new image under the guess; NaN when it is unknown,
-// behind the camera or outside the image.
+// behind every camera or outside every camera's image. With several cameras the point goes to
+// the first camera that sees it, its u offset into that camera's sub-image.
 std::vector<cv::Point2f> projectReference(const VisualFrame& from, const VisualFrame& to, const Transform& guess) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::vector<cv::Point2f> projected(from.size(), cv::Point2f(nan, nan));
-  const Eigen::Isometry3d worldToCamera = (guess * to.model.localTransform()).inverse().toEigen();
-  const double fx = to.model.fx(), fy = to.model.fy(), cx = to.model.cx(), cy = to.model.cy();
-  const int w = to.model.imageWidth() > 0 ? to.model.imageWidth() : to.grey.cols;
+  const std::vector<CameraModel> cameras = to.models.empty() ? std::vector<CameraModel>{to.model} : to.models;
+  const int w = to.cameraWidth();
   const int h = to.model.imageHeight() > 0 ? to.model.imageHeight() : to.grey.rows;
-  for (size_t i = 0; i < projected.size() && i < from.points3D.size(); ++i) {
-    const cv::Point3f& p = from.points3D[i];
-    if (!finite3(p)) continue;
-    const Eigen::Vector3d c = worldToCamera * Eigen::Vector3d(p.x, p.y, p.z);
-    if (c.z() <= 0.0) continue;
-    const double u = fx * c.x() / c.z() + cx;
-    const double v = fy * c.y() / c.z() + cy;
-    if (w > 0 && h > 0 && (u < 0.0 || v < 0.0 || u > w - 1 || v > h - 1)) continue;
-    projected[i] = cv::Point2f(static_cast<float>(u), static_cast<float>(v));
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const CameraModel& m = cameras[c];
+    const Eigen::Isometry3d worldToCamera = (guess * m.localTransform()).inverse().toEigen();
+    const double offset = static_cast<double>(c) * w;
+    for (size_t i = 0; i < projected.size() && i < from.points3D.size(); ++i) {
+      const cv::Point3f& p = from.points3D[i];
+      if (!finite3(p) || std::isfinite(projected[i].x)) continue;
+      const Eigen::Vector3d q = worldToCamera * Eigen::Vector3d(p.x, p.y, p.z);
+      if (q.z() <= 0.0) continue;
+      const double u = m.fx() * q.x() / q.z() + m.cx();
+      const double v = m.fy() * q.y() / q.z() + m.cy();
+      if (w > 0 && h > 0 && (u < 0.0 || v < 0.0 || u > w - 1 || v > h - 1)) continue;
+      projected[i] = cv::Point2f(static_cast<float>(u + offset), static_cast<float>(v));
+    }
   }
   return projected;
 }
@@ -109,13 +115,14 @@ FrameMatches trackByOpticalFlow(const VisualFrame& from, const VisualFrame& to, 
   std::vector<cv::KeyPoint> trackedKeypoints;
   for (size_t i = 0; i < status.size(); ++i) {
     if (!status[i]) continue;
+    if (to.severalCameras() && to.cameraOf(tracked[i].x) != from.cameraOf(fromPoints[i].x)) continue;
     c.matches.emplace_back(static_cast<int>(i), static_cast<int>(i), 0.0f);
     c.toPoints.push_back(tracked[i]);
     trackedKeypoints.emplace_back(tracked[i], from.keypoints[i].size);
   }
   // The tracked points are new image points: their 3D comes from the new frame's depth or
   // stereo pair, needed only by the estimators that use the new frame's 3D.
-  if (to.points3DAt && (options.estimationType == 0 || !options.forwardEstOnly)) {
+  if (to.points3DAt && (options.estimationType == 0 || !options.forwardEstOnly || to.severalCameras())) {
     c.toPoints3D = to.points3DAt(trackedKeypoints);
   } else {
     c.toPoints3D.assign(c.toPoints.size(), kNoPoint);
@@ -202,8 +209,8 @@ void describeInliers(const Transform& transform, const FrameMatches& c, const st
   }
   info.inliers = static_cast<int>(inliers.size());
   info.inliersMeanDistance = counted > 0 ? meanDistance / counted : 0.0;
-  const cv::Size imageSize(to.model.imageWidth() > 0 ? to.model.imageWidth() : to.grey.cols,
-                           to.model.imageHeight() > 0 ? to.model.imageHeight() : to.grey.rows);
+  const int cameras = std::max(1, static_cast<int>(to.models.size()));
+  const cv::Size imageSize(to.cameraWidth() * cameras, to.model.imageHeight() > 0 ? to.model.imageHeight() : to.grey.rows);
   info.inliersDistribution = inliersDistribution(c.toPoints, inliers, imageSize);
   for (int k : inliers) info.inliersIDs.push_back(info.matchesIDs[static_cast<size_t>(k)]);
 }
@@ -254,7 +261,8 @@ Transform RegistrationVis::computeTransform(const VisualFrame& from, const Visua
 
   // Correspondences.
   const bool flow = options_.correspondences.type == 1 && !from.isMap() && !from.grey.empty() && !to.grey.empty() &&
-                    from.grey.size() == to.grey.size();
+                    from.grey.size() == to.grey.size() &&
+                    ((!from.severalCameras() && !to.severalCameras()) || from.models.size() == to.models.size());
   const FrameMatches c = flow ? trackByOpticalFlow(from, to, guess, options_) : matchByDescriptors(from, to, guess, options_);
   if (!c.problem.empty()) return reject(c.problem);
   info.matches = static_cast<int>(c.matches.size());
@@ -275,16 +283,23 @@ Transform RegistrationVis::computeTransform(const VisualFrame& from, const Visua
   // Motion estimation, then the optional backward average and bundle adjustment.
   std::vector<cv::Point3f> fromPoints3D;
   for (const cv::DMatch& m : c.matches) fromPoints3D.push_back(pointOf(from.points3D, m.queryIdx));
-  const MotionEstimate estimate = options_.estimationType == 1
-                                      ? estimateMotion3DTo2D(fromPoints3D, c.toPoints, to.model, guess, options_.pnp)
-                                      : estimateMotion3DTo3D(fromPoints3D, c.toPoints3D, options_.rigid);
+  MotionEstimate estimate;
+  if (options_.estimationType == 0) {
+    estimate = estimateMotion3DTo3D(fromPoints3D, c.toPoints3D, options_.rigid);
+  } else if (to.severalCameras()) {
+    estimate = estimateMotionMultiCameraPnP(fromPoints3D, c.toPoints, c.toPoints3D, to, options_.pnp, options_.rigid);
+  } else {
+    estimate = estimateMotion3DTo2D(fromPoints3D, c.toPoints, to.model, guess, options_.pnp);
+  }
   if (estimate.transform.isNull()) return reject(estimate.rejectedMsg);
   Transform transform = estimate.transform;
   const std::vector<int>& inliers = estimate.inliers;
-  if (!options_.forwardEstOnly && !from.isMap() && from.model.isValidForProjection()) {
+  // The backward average and the two-view adjustment know one camera per frame.
+  const bool oneCameraEach = !from.severalCameras() && !to.severalCameras();
+  if (!options_.forwardEstOnly && oneCameraEach && !from.isMap() && from.model.isValidForProjection()) {
     transform = averageWithBackward(transform, from, c, options_.pnp);
   }
-  if (options_.bundleAdjustment == 3) {
+  if (options_.bundleAdjustment == 3 && oneCameraEach) {
     transform = refineTwoViews(transform, from, to, c, fromPoints3D, inliers, options_.pnp.reprojError);
   }
   if (options_.force3DoF) transform = transform.to3DoF();
@@ -307,7 +322,9 @@ Transform RegistrationVis::computeTransform(const VisualFrame& from, const Visua
 
 VisualFrame RegistrationVis::frameOf(Signature& node, std::string* problem) const {
   SensorData& data = node.sensorData();
-  const bool needImages = options_.correspondences.type == 1 || options_.estimationType == 0 || !options_.forwardEstOnly;
+  // Several cameras: the image tells each camera's width when the models do not.
+  const bool needImages = options_.correspondences.type == 1 || options_.estimationType == 0 ||
+                          !options_.forwardEstOnly || data.cameraModels().size() > 1;
   ImageFeatures features;
   std::vector<int> ids;
   if (!node.getWords().empty() && !node.getWordsDescriptors().empty()) {

@@ -3,13 +3,16 @@
 // check the messages through rtabmap_conversions and build the core frame, or say precisely
 // what is wrong (which topic, which field) so the node can log it and go on.
 #include <rtabmap_ros/RGBDImage.h>
+#include <rtabmap_ros/RGBDImages.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rtabmap_core/geometry/LaserScan.h"
 #include "rtabmap_core/geometry/SensorData.h"
@@ -43,6 +46,15 @@ std::optional<rtabmap::SensorData> stereoFrame(const sensor_msgs::Image& left, c
 // An RGBDImage rgbdx_sync may bundle: an image (raw or compressed) and a valid camera_info.
 // Images are not decoded (the consumer does), so this stays cheap.
 bool checkRgbdImage(const rtabmap_ros::RGBDImage& msg, std::string* error = nullptr);
+
+// Several RGB-D cameras side by side as one frame: `bundle` (rtabmap_ros/RGBDImages from
+// rgbdx_sync, rgbd_cameras 0) when set, else the synchronised `images` (rgbd_image0..N-1); each
+// camera placed on the robot by sensorPose(frame_id, stamp, error), the node's tf lookup. The
+// error says which lookup or which camera's images failed.
+using SensorPoseFn = std::function<rtabmap::Transform(const std::string&, const ros::Time&, std::string*)>;
+std::optional<rtabmap::SensorData> rgbdCamerasFrame(const rtabmap_ros::RGBDImagesConstPtr& bundle,
+                                                    const std::vector<rtabmap_ros::RGBDImageConstPtr>& images,
+                                                    const SensorPoseFn& sensorPose, std::string* error);
 
 // The laser input of a synchronised set: `scan` when there is one, else `cloud` (scan_cloud),
 // with `local` the sensor's pose on the robot. The error names the topic and what is wrong.

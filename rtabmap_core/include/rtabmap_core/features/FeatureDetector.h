@@ -14,6 +14,15 @@
 // generateDescriptors and generateKeypoints3D): grey conversion, region of interest, depth mask,
 // detection per grid cell keeping the strongest, sub-pixel refinement, description, then the 3D
 // point of each keypoint in the robot base frame, from the depth image or by stereo matching.
+//
+// Several RGB-D cameras (one CameraModel per camera, images side by side: camera i owns the
+// columns [i*w, (i+1)*w) of the image, w = width / N, and the same share of the depth image):
+// each camera's sub-image is processed alone (its own depth mask, its own model and local
+// transform for the 3D points), keypoints are offset into the combined image, and the 3D points
+// of all cameras share the base frame. Each camera keeps at most maxFeatures / N keypoints: the
+// detectors' responses are not comparable between cameras (exposure, texture), so the
+// "strongest overall" would let the most textured view take everything and leave the others
+// unconstrained, which is what several cameras are there to avoid (same reason as the grid).
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 
@@ -27,6 +36,7 @@
 
 namespace rtabmap {
 
+class CameraModel;
 class SensorData;
 
 // Values of Vis/FeatureType and Kp/DetectorStrategy (the original's numbering; 16 is ours).
@@ -132,6 +142,13 @@ class FeatureDetector {
   ImageFeatures extract(const SensorData& data, FeatureExtractionInfo* info = nullptr) const;
 
  private:
+  std::vector<cv::KeyPoint> detectUpTo(const cv::Mat& grey, const cv::Mat& mask, int maxFeatures) const;
+  // Features of one RGB-D (or mono, empty depth) camera image with at most maxFeatures
+  // keypoints; empty with *problem set when its depth is unusable.
+  ImageFeatures extractDepthCamera(const cv::Mat& grey, const cv::Mat& depth, const CameraModel* model,
+                                   int maxFeatures, FeatureExtractionInfo& info, std::string* problem) const;
+  ImageFeatures extractSeveralCameras(const SensorData& data, const cv::Mat& grey, FeatureExtractionInfo& info) const;
+
   struct Impl;
   FeatureOptions options_;
   std::unique_ptr<Impl> impl_;

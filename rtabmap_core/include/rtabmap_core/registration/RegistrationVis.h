@@ -10,6 +10,14 @@
 //                    (Vis/EstimationType 1) or 3D-3D RANSAC (0); optionally also backwards
 //                    and averaged (Vis/ForwardEstOnly false)
 //   refinement       optional two-view bundle adjustment (Vis/BundleAdjustment 3)
+//
+// Several cameras (RGB-D images side by side, one CameraModel each, see FeatureDetector): the
+// 3D points are all in the base frame, so descriptor matching is unchanged; guided matching
+// projects each reference point into every camera of the new frame (the first that sees it
+// wins, its u offset by i*w); optical flow keeps only tracks that stay in their camera's
+// sub-image (Lucas-Kanade cannot follow a point from one camera into another); PnP becomes a
+// multi-camera PnP (estimateMotionMultiCameraPnP below); the backward average and the two-view
+// bundle adjustment, written for one camera per frame, are skipped.
 //   acceptance       Vis/MinInliers, Vis/MeanInliersDistance, Vis/MinInliersDistribution
 //   covariance       from the median absolute deviation of the inliers' 3D errors
 //
@@ -64,6 +72,9 @@ struct VisualFrame {
   cv::Mat descriptors;
   std::vector<int> ids;                 // word or map-point ids reported in RegistrationInfo
   CameraModel model;                    // (left) camera, local transform base -> optical
+  // Every camera of a frame whose images are side by side (camera i owns the columns
+  // [i*w, (i+1)*w) of the image); models[0] == model. Empty for a feature map.
+  std::vector<CameraModel> models;
   double stereoBaseline = 0.0;          // m, > 0 for a stereo frame (bundle adjustment weights)
   cv::Mat grey;                         // 8-bit grey image, needed by optical flow
   // 3D points (base frame) of arbitrary image points of this frame, from its depth or stereo
@@ -72,10 +83,26 @@ struct VisualFrame {
 
   size_t size() const { return static_cast<size_t>(descriptors.rows > 0 ? descriptors.rows : static_cast<int>(points3D.size())); }
   bool isMap() const { return keypoints.empty(); }
+  bool severalCameras() const { return models.size() > 1; }
+  // Width of one camera's sub-image (0 when unknown), and the camera of an image column.
+  int cameraWidth() const;
+  int cameraOf(float x) const;
   // A camera frame from sensor data and its features (camera model, grey image, points3DAt).
   static VisualFrame fromSensorData(const SensorData& data, const ImageFeatures& features,
                                     const StereoOptions& stereo = StereoOptions());
 };
+
+// Multi-camera PnP: the new base frame's pose minimising the reprojection errors of the
+// reference points `objectPoints[k]` at `imagePoints[k]` (combined image: the camera is
+// cameraOf(x)) through each camera's own model and local transform. OpenCV's PnP knows one
+// camera only, so the first hypothesis is the 3D->3D RANSAC estimate from the new frame's own 3D
+// points (newPoints3D; RGB-D frames have them), then Gauss-Newton on the reprojection errors of
+// the points within Vis/PnPReprojError, repeated Vis/PnPRefineIterations times with the inliers
+// re-selected. Fails (rejectedMsg) with fewer than Vis/MinInliers inliers.
+MotionEstimate estimateMotionMultiCameraPnP(const std::vector<cv::Point3f>& objectPoints,
+                                            const std::vector<cv::Point2f>& imagePoints,
+                                            const std::vector<cv::Point3f>& newPoints3D, const VisualFrame& to,
+                                            const PnPOptions& pnp, const RigidOptions& rigid);
 
 // The correspondences behind a result, for callers that update maps (F2M) or display them.
 struct VisualCorrespondences {
