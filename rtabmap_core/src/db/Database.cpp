@@ -294,6 +294,9 @@ std::vector<StoredWord> Database::loadWords(const std::vector<int>& ids) const {
   std::vector<StoredWord> words;
   words.reserve(ids.size());
   std::lock_guard<std::mutex> lock(impl_->readMutex);
+  // One read transaction for the batch (a retrieval's missing words): SQLite would otherwise
+  // open and close one per statement.
+  ReadTransaction snapshot(*impl_->reader);
   for (int id : ids) {
     std::optional<StoredWord> word = overlay.word(id);
     if (!word) word = load::word(*impl_->reader, id);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <stdexcept>
 
 #include "rtabmap_core/db/Database.h"
@@ -92,32 +93,42 @@ TransferResult Memory::transfer(const std::set<int>& immune, int minWordsRemoved
   return result;
 }
 
-// Words of a retrieved location that left the vocabulary: an exact match of the current
-// vocabulary (the same descriptor came back as another word meanwhile) is reused, the others
-// come back with their ids.
-void Memory::requantize(Signature& s) {
+// Words of the retrieved locations that left the vocabulary, all locations of a retrieval at
+// once, in one database read. A word whose descriptor is in the vocabulary bit for bit (it came
+// back meanwhile as another word) is that word; the others come back with their ids. Found by
+// the vocabulary's descriptor hash, not by a nearest-neighbour search per word: that search was
+// most of Reactivation (Mem/MaxRetrieved locations of hundreds of words, one FLANN query each),
+// only to test for a distance of zero.
+void Memory::requantize(std::vector<Signature>& retrieved) {
   std::vector<int> missing;
-  for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
-    if (!vocabulary_.word(it->first)) missing.push_back(it->first);
+  for (Signature& s : retrieved) {
+    for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
+      if (!vocabulary_.word(it->first)) missing.push_back(it->first);
+    }
   }
+  std::sort(missing.begin(), missing.end());
+  missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+  std::map<int, int> reused;  // stored word id -> current word id
   if (!missing.empty()) {
     std::vector<vocabulary::VisualWord> back;
-    for (const db::StoredWord& stored : ltm_->loadWords(missing)) {
-      const int current = vocabulary_.findWords(stored.descriptor)[0];
-      const vocabulary::VisualWord* w = current ? vocabulary_.word(current) : nullptr;
-      if (w && cv::norm(w->descriptor, stored.descriptor,
-                        stored.descriptor.type() == CV_8U ? cv::NORM_HAMMING : cv::NORM_L2) == 0.0) {
-        s.changeWordsRef(stored.id, current);
+    for (db::StoredWord& stored : ltm_->loadWords(missing)) {
+      if (const int current = vocabulary_.exactWord(stored.descriptor)) {
+        reused.emplace(stored.id, current);
       } else {
-        back.push_back({stored.id, stored.descriptor, {}});
         savedWords_.insert(stored.id);  // it comes from the LTM
+        back.push_back({stored.id, std::move(stored.descriptor), {}});
       }
     }
     vocabulary_.addWords(std::move(back));
   }
-  for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
-    if (vocabulary_.word(it->first)) {
-      vocabulary_.addReference(it->first, s.id(), static_cast<int>(s.getWords().count(it->first)));
+  for (Signature& s : retrieved) {
+    for (const auto& [from, to] : reused) {
+      if (s.getWords().count(from)) s.changeWordsRef(from, to);  // marks it modified
+    }
+    for (auto it = s.getWords().begin(); it != s.getWords().end(); it = s.getWords().upper_bound(it->first)) {
+      if (vocabulary_.word(it->first)) {
+        vocabulary_.addReference(it->first, s.id(), static_cast<int>(s.getWords().count(it->first)));
+      }
     }
   }
 }
@@ -160,12 +171,15 @@ std::vector<int> Memory::retrieveIds(const std::vector<int>& ids) {
     if (!signatures_.count(id)) toLoad.push_back(id);
   }
   std::vector<int> retrieved;
-  for (Signature& s : ltm_->loadNodes(toLoad)) {
-    const int sid = s.id();
+  std::vector<Signature> loaded = ltm_->loadNodes(toLoad);
+  for (Signature& s : loaded) {
     s.setSaved(true);
     s.setModified(false);
     s.setLinksModified(false);
-    requantize(s);  // marks it modified if a word id changed: saved again when it leaves
+  }
+  requantize(loaded);  // marks a location modified if a word id changed: saved again when it leaves
+  for (Signature& s : loaded) {
+    const int sid = s.id();
     signatures_.emplace(sid, std::move(s));
     wm_[sid] = updateCounter_;
     retrieved.push_back(sid);

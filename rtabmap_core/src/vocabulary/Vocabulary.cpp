@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -110,6 +111,7 @@ bool Vocabulary::passesRatio(const Match& m) const {
 std::vector<Vocabulary::Match> Vocabulary::nearestTwo(const cv::Mat& descriptors) const {
   std::vector<Match> matches(descriptors.rows);
   if (!index_ || descriptors.empty()) return matches;
+  summary_.searchedDescriptors += descriptors.rows;
   const auto found = index_->nearestTwo(descriptors);
   for (int i = 0; i < descriptors.rows; ++i) {
     matches[i].wordId = found[i][0].first;
@@ -167,7 +169,7 @@ std::vector<int> Vocabulary::quantize(const cv::Mat& descriptors, int locationId
       ids[i] = w.id;
       newIds.push_back(w.id);
       newRows.push_back(i);
-      words_.emplace(w.id, std::move(w));
+      insertWord(std::move(w));
       ++summary_.lastNewWords;
     }
     if (ids[i]) words_.at(ids[i]).references[locationId] += 1;
@@ -234,6 +236,13 @@ VisualWord Vocabulary::removeWord(int wordId) {
   if (it == words_.end()) throw std::out_of_range("Vocabulary::removeWord: unknown word " + std::to_string(wordId));
   VisualWord w = std::move(it->second);
   words_.erase(it);
+  auto range = byDescriptor_.equal_range(descriptorHash(w.descriptor));
+  for (auto h = range.first; h != range.second; ++h) {
+    if (h->second == wordId) {
+      byDescriptor_.erase(h);
+      break;
+    }
+  }
   index_->remove(wordId);
   summary_.words = static_cast<int>(words_.size());
   return w;
@@ -257,12 +266,38 @@ void Vocabulary::addWords(std::vector<VisualWord> words) {
   std::vector<int> ids;
   for (auto& word : words) {
     const int id = word.id;
-    words_.emplace(id, std::move(word));
+    insertWord(std::move(word));
     lastWordId_ = std::max(lastWordId_, id);
     ids.push_back(id);
   }
   indexWords(ids);
   summary_.words = static_cast<int>(words_.size());
+}
+
+// FNV-1a over the row's bytes.
+uint64_t Vocabulary::descriptorHash(const cv::Mat& row) {
+  uint64_t h = 1469598103934665603ull;
+  const uchar* p = row.ptr<uchar>(0);
+  const size_t n = row.cols * row.elemSize();
+  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+void Vocabulary::insertWord(VisualWord word) {
+  const int id = word.id;
+  byDescriptor_.emplace(descriptorHash(word.descriptor), id);
+  words_.emplace(id, std::move(word));
+}
+
+int Vocabulary::exactWord(const cv::Mat& descriptor) const {
+  if (descriptor.rows != 1 || descriptor.type() != descriptorType_ || descriptor.cols != descriptorWidth_) return 0;
+  const size_t bytes = descriptor.cols * descriptor.elemSize();
+  auto range = byDescriptor_.equal_range(descriptorHash(descriptor));
+  for (auto h = range.first; h != range.second; ++h) {
+    const VisualWord& w = words_.at(h->second);
+    if (std::memcmp(w.descriptor.ptr<uchar>(0), descriptor.ptr<uchar>(0), bytes) == 0) return h->second;
+  }
+  return 0;
 }
 
 const VisualWord* Vocabulary::word(int wordId) const {

@@ -119,6 +119,36 @@ TEST(MemoryTransfer, ChangedWordsAreReusedOnRetrieval) {
   EXPECT_EQ(m.vocabulary().word(firstWord), nullptr);
 }
 
+// Retrieval puts words back by id or by their exact bytes: it searches the vocabulary's index
+// for none of them (one FLANN query per word was most of Reactivation on long runs).
+TEST(MemoryTransfer, RetrievalDoesNotSearchTheVocabulary) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 0;
+  o.recentWmRatio = 0.f;
+  Memory m(o, &ltm.database);
+  m.addLocation(view(1));
+  m.addLocation(view(2));
+  m.addLocation(view(3));
+  m.transfer({3}, 0, 0, true);
+  m.transfer({3}, 0, 0, true);
+  ASSERT_FALSE(m.inRam(1));
+  ASSERT_FALSE(m.inRam(2));
+  m.addLocation(view(1));  // location 1's descriptors come back as new words of location 4
+  const long searched = m.vocabulary().summary().searchedDescriptors;
+  const size_t words = m.vocabulary().size();
+  const std::vector<int> back = m.retrieveIds({1, 2});
+  ASSERT_EQ(back, (std::vector<int>{1, 2}));
+  EXPECT_EQ(m.vocabulary().summary().searchedDescriptors, searched);
+  EXPECT_EQ(m.vocabulary().size(), words + 100);  // 2's words back; 1's are 4's
+  for (const auto& [word, keypoint] : m.signature(1)->getWords()) {
+    (void)keypoint;
+    ASSERT_NE(m.vocabulary().word(word), nullptr);
+    EXPECT_TRUE(m.vocabulary().word(word)->references.count(4)) << word;  // shared with 4
+    EXPECT_TRUE(m.vocabulary().word(word)->references.count(1)) << word;
+  }
+}
+
 // T-RO 2013 memory management bounds RAM by the Working Memory: what the vocabulary keeps per
 // word (the saved-to-LTM mark included) must leave with the words of transferred locations,
 // however many locations the map has.

@@ -202,6 +202,35 @@ TEST(Vocabulary, RemovedWordsCountTowardsTheRebuild) {
   EXPECT_EQ(v.findWords(first.row(95))[0], ids[95]);
 }
 
+// exactWord (the re-quantisation of words retrieved from LTM) is a lookup of the very bytes:
+// no index search, a one-bit difference is another descriptor, removed words are gone from it
+// and words put back are in it again.
+TEST(Vocabulary, ExactWordIsTheSameBytesWithoutSearching) {
+  Vocabulary v;
+  cv::Mat d = randomBinary(50, 32, 21);
+  const auto ids = v.quantize(d, 1);
+  const long searched = v.summary().searchedDescriptors;
+  EXPECT_EQ(searched, 50);
+  for (int i = 0; i < d.rows; ++i) ASSERT_EQ(v.exactWord(d.row(i)), ids[i]) << i;
+  cv::Mat flipped = d.row(7).clone();
+  flipped.at<uchar>(0, 31) ^= 1;
+  EXPECT_EQ(v.exactWord(flipped), 0);
+  EXPECT_EQ(v.exactWord(randomBinary(1, 16, 3)), 0);  // another width: nothing
+  EXPECT_EQ(v.exactWord(randomFloat(1, 32, 3)), 0);   // another type: nothing
+  VisualWord out = v.removeWord(ids[7]);
+  EXPECT_EQ(v.exactWord(d.row(7)), 0);
+  v.addWord(out);
+  EXPECT_EQ(v.exactWord(d.row(7)), ids[7]);
+  // Two words of the same bytes (one came back from LTM while the other was made): either.
+  VisualWord twin{1000, d.row(9).clone(), {}};
+  v.addWord(twin);
+  const int found = v.exactWord(d.row(9));
+  EXPECT_TRUE(found == ids[9] || found == 1000);
+  v.removeWord(found);
+  EXPECT_EQ(v.exactWord(d.row(9)), found == 1000 ? ids[9] : 1000);
+  EXPECT_EQ(v.summary().searchedDescriptors, searched);  // none of this searched the index
+}
+
 TEST(Vocabulary, WordsLeaveAndComeBackWithTheirIds) {
   Vocabulary v;
   cv::Mat d = randomFloat(30, 64, 7);

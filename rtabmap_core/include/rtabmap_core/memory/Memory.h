@@ -197,7 +197,7 @@ class Memory {
   int removeFromVocabulary(int id, const std::multimap<int, int>& words);
   std::vector<int> transferCandidates(const std::set<int>& immune) const;
   std::set<int> recentWm() const;
-  void requantize(Signature& s);
+  void requantize(std::vector<Signature>& retrieved);
   void rehearseWhileMoving(Signature& previous, Signature& fresh);
   bool isMoving(const Signature& previous, const Signature& fresh) const;
 

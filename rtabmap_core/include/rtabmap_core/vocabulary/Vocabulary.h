@@ -24,6 +24,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <cstdint>
 #include <unordered_map>
 #include <vector>
 
@@ -64,6 +65,7 @@ struct VocabularySummary {
   int lastNewWords = 0;         // words created by the last quantize()
   int lastMatchedWords = 0;     // descriptors of the last quantize() that matched a word
   double lastQuantizeMs = 0.0;  // time of the last quantize(), index update included
+  long searchedDescriptors = 0;  // descriptors looked up in the index (quantize, findWords)
 };
 
 class Vocabulary {
@@ -83,6 +85,9 @@ class Vocabulary {
   // The word each descriptor row quantises to without changing anything (0 when none passes
   // the ratio test). Used to re-quantise the words of a location retrieved from LTM.
   std::vector<int> findWords(const cv::Mat& descriptors) const;
+  // The word whose descriptor is this row bit for bit (0 when none): a hash lookup, no search.
+  // A word retrieved from LTM whose descriptor came back meanwhile as another word is that word.
+  int exactWord(const cv::Mat& descriptor) const;
 
   void addReference(int wordId, int locationId, int count = 1);
   // Removes the location from the references of its words (words: word id -> keypoint, as in
@@ -119,13 +124,17 @@ class Vocabulary {
   std::vector<Match> nearestTwo(const cv::Mat& descriptors) const;
   bool passesRatio(const Match& m) const;
 
+  void insertWord(VisualWord word);
+  static uint64_t descriptorHash(const cv::Mat& row);
+
   VocabularyOptions options_;
   std::unordered_map<int, VisualWord> words_;
+  std::unordered_multimap<uint64_t, int> byDescriptor_;  // descriptor hash -> word ids (exactWord)
   std::unique_ptr<Index> index_;
   int lastWordId_ = 0;
   int descriptorType_ = -1;
   int descriptorWidth_ = 0;
-  VocabularySummary summary_;
+  mutable VocabularySummary summary_;  // mutable: the const searches count themselves
 };
 
 }  // namespace rtabmap::vocabulary
