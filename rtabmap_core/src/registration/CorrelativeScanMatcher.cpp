@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "rtabmap_core/common/Error.h"
@@ -138,6 +139,60 @@ struct Search {
   }
 };
 
+// A pose away from the first peak (farther than `separation` cells or `rotationSeparation`
+// rotation steps) scoring over `best` (Olson 2009, section IV.C: a match is only as good as its
+// margin over the next hypothesis). Same branch and bound, with the leaves near the first peak
+// left out (a block stays an upper bound of its far leaves); stops at the first such leaf.
+struct SecondPeakSearch {
+  const LikelihoodLevels& levels;
+  const std::vector<std::vector<Eigen::Vector2i>>& rotated;
+  int window;
+  Candidate first;
+  int separation;          // cells
+  int rotationSeparation;  // rotation steps
+  long scored = 0;
+  float best;  // the score to beat
+  bool found = false;
+
+  bool nearFirst(int ox, int oy) const {
+    const int dx = ox - first.ox, dy = oy - first.oy;
+    return dx * dx + dy * dy <= separation * separation;
+  }
+  // True when every leaf of the block is near the first peak: nothing to find there. A pose
+  // turned farther than the angular separation is another hypothesis even in the same place
+  // (a round hall seen rotated).
+  bool blockNearFirst(int rotation, int ox, int oy, int h) const {
+    if (std::abs(rotation - first.rotation) > rotationSeparation) return false;
+    const int span = (1 << h) - 1;
+    return nearFirst(ox, oy) && nearFirst(ox + span, oy) && nearFirst(ox, oy + span) && nearFirst(ox + span, oy + span);
+  }
+
+  void branch(std::vector<Candidate>& candidates, int h) {
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    for (const Candidate& c : candidates) {
+      if (c.score <= best) return;
+      if (blockNearFirst(c.rotation, c.ox, c.oy, h)) continue;
+      if (h == 0) {
+        best = c.score;
+        found = true;
+        return;
+      }
+      const int s = 1 << (h - 1);
+      std::vector<Candidate> children;
+      for (int dy = 0; dy <= s; dy += s) {
+        for (int dx = 0; dx <= s; dx += s) {
+          if (c.ox + dx > window || c.oy + dy > window) continue;
+          ++scored;
+          children.push_back(Candidate{c.rotation, c.ox + dx, c.oy + dy,
+                                       levels.score(rotated[c.rotation], h - 1, c.ox + dx, c.oy + dy)});
+        }
+      }
+      branch(children, h - 1);
+    }
+  }
+};
+
 }  // namespace
 
 bool CorrelativeOptions::IsValid(std::string* why) const {
@@ -151,6 +206,13 @@ bool CorrelativeOptions::IsValid(std::string* why) const {
     return fail("correlative matching: angular window must be in [0, pi]");
   }
   if (!(minScore > 0.0f) || !(minScore <= 1.0f)) return fail("correlative matching: minimum score must be in (0, 1]");
+  if (!(maxSecondPeakRatio > 0.0f) || !(maxSecondPeakRatio <= 1.0f)) {
+    return fail("correlative matching: second peak ratio must be in (0, 1]");
+  }
+  if (!(peakSeparation >= 0.0f) || !std::isfinite(peakSeparation) || !(peakAngleSeparation >= 0.0f) ||
+      !std::isfinite(peakAngleSeparation)) {
+    return fail("correlative matching: peak separations must be >= 0");
+  }
   if (linearWindow / resolution > 10000.0f) return fail("correlative matching: window over 10,000 cells");
   return true;
 }
@@ -235,9 +297,28 @@ CorrelativeResult matchCorrelative(const std::vector<Eigen::Vector2f>& reference
     return result;
   }
   const Candidate& b = search.bestCandidate;
-  result.found = true;
   result.score = b.score;
   result.pose = Eigen::Vector3f(t.x() + b.ox * o.resolution, t.y() + b.oy * o.resolution, yaws[b.rotation]);
+  if (o.maxSecondPeakRatio < 1.0f) {
+    // Only whether some far pose reaches the ratio matters: that is the bound to beat.
+    const int separation = static_cast<int>(std::ceil(o.peakSeparation / o.resolution));
+    const int rotationSeparation = step > 0.0f ? static_cast<int>(std::ceil(o.peakAngleSeparation / step)) : 0;
+    SecondPeakSearch second{grid,       rotated, window, b, separation, rotationSeparation,
+                            0,          o.maxSecondPeakRatio * b.score - 1e-6f, false};
+    // `top` keeps its top-level scores: the first search only sorted it.
+    second.branch(top, levels);
+    result.scoredCandidates += second.scored;
+    if (second.found) {
+      result.secondScore = second.best;
+      std::ostringstream m;
+      m << "correlative matching: ambiguous, a pose over " << o.peakSeparation << " m or " << o.peakAngleSeparation
+        << " rad from the best scores "
+        << second.best << " against " << b.score << " (ratio over " << o.maxSecondPeakRatio << ")";
+      result.why = m.str();
+      return result;
+    }
+  }
+  result.found = true;
   return result;
 }
 

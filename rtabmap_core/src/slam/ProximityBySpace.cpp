@@ -65,6 +65,7 @@ Transform correlativeGuess(const LaserScan& merged, const LaserScan& scan, const
   c.linearWindow = o.proximityCorrelativeWindow;
   c.angularWindow = o.proximityCorrelativeAngle * static_cast<float>(M_PI) / 180.0f;
   c.minScore = o.proximityCorrelativeMinScore;
+  c.maxSecondPeakRatio = o.proximityCorrelativeMaxPeakRatio;
   const CorrelativeResult r = matchCorrelative(pointsInBase2d(merged), pointsInBase2d(scan),
                                                Eigen::Vector3f(guess.x(), guess.y(), guess.theta()), c);
   if (!r.found) {

@@ -20,7 +20,10 @@
 //     With RGBD/ProximityCorrelativeWindow > 0 (2D scans), the ICP guess comes from a
 //     correlative search of the merged scans around the graph's guess (CorrelativeScanMatcher.h):
 //     after a long loop the graph can be metres off, beyond ICP's correspondence distance; paths
-//     within that window (not only RGBD/ProximityPathFilteringRadius) are tried by scans.
+//     within that window (not only RGBD/ProximityPathFilteringRadius) are tried by scans. A
+//     search whose best pose has a rival far from it scoring RGBD/ProximityCorrelativeMaxPeakRatio
+//     of its score (corridors, look-alike hubs) links nothing: a wrong link pulls the graph more
+//     than a missing one.
 #include <map>
 #include <set>
 #include <string>

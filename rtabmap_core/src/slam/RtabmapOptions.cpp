@@ -41,6 +41,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.proximityCorrelativeAngle = P::getFloat(p, P::kRGBDProximityCorrelativeAngle());
   o.proximityCorrelativeMinScore = P::getFloat(p, P::kRGBDProximityCorrelativeMinScore());
   o.proximityCorrelativeResolution = P::getFloat(p, P::kRGBDProximityCorrelativeResolution());
+  o.proximityCorrelativeMaxPeakRatio = P::getFloat(p, P::kRGBDProximityCorrelativeMaxPeakRatio());
   o.optimizeMaxError = P::getFloat(p, P::kRGBDOptimizeMaxError());
   o.optimizeFromGraphEnd = P::getBool(p, P::kRGBDOptimizeFromGraphEnd());
   o.maxLoopClosureDistance = P::getFloat(p, P::kRGBDMaxLoopClosureDistance());

@@ -145,6 +145,70 @@ TEST(CorrelativeScanMatcher, NothingOutsideTheWindowOrUnderTheMinimumScore) {
   EXPECT_FALSE(matchCorrelative(ref, other, truth, o).found);
 }
 
+// Two copies of the same irregular room side by side, 8 m apart: a hub of look-alike places.
+// A scan of one copy, searched from a guess half-way between them, fits both equally.
+std::vector<Eigen::Vector2f> twinRooms() {
+  std::vector<Eigen::Vector2f> pts = room();
+  const size_t n = pts.size();
+  for (size_t i = 0; i < n; ++i) pts.push_back(pts[i] + Eigen::Vector2f(14.0f, 0.0f));
+  return pts;
+}
+
+TEST(CorrelativeScanMatcher, AmbiguityTestRefusesATwinPlace) {
+  const std::vector<Eigen::Vector2f> one = room();
+  const Eigen::Vector3f truth(6.3f, 4.1f, 0.2f);
+  // Range 6 m: the scan stays inside its own copy, so both copies give it the same score.
+  const std::vector<Eigen::Vector2f> scan = scanFrom(one, truth, 6.0f, 3, 0.01f, 4);
+  ASSERT_GT(scan.size(), 200u);
+  CorrelativeOptions o;
+  o.resolution = 0.1f;
+  o.linearWindow = 8.0f;
+  o.angularWindow = 0.1f;
+  o.minScore = 0.5f;
+  const Eigen::Vector3f guess = truth + Eigen::Vector3f(7.0f, 0.3f, 0.0f);  // between the copies
+  const CorrelativeResult off = matchCorrelative(twinRooms(), scan, guess, o);
+  ASSERT_TRUE(off.found) << "without the test one of the twins wins: " << off.why;
+  o.maxSecondPeakRatio = 0.9f;
+  const CorrelativeResult twin = matchCorrelative(twinRooms(), scan, guess, o);
+  EXPECT_FALSE(twin.found);
+  EXPECT_GE(twin.secondScore, 0.9f * twin.score);
+  EXPECT_NE(twin.why.find("ambiguous"), std::string::npos) << twin.why;
+  // The same search in the single room is unambiguous: the test only refuses real look-alikes.
+  const CorrelativeResult single = matchCorrelative(one, scan, guess - Eigen::Vector3f(7.0f, 0.0f, 0.0f), o);
+  ASSERT_TRUE(single.found) << single.why;
+  EXPECT_NEAR(single.pose.x(), truth.x(), 2 * o.resolution);
+  EXPECT_NEAR(single.pose.y(), truth.y(), 2 * o.resolution);
+}
+
+TEST(CorrelativeScanMatcher, AmbiguityTestRefusesACorridor) {
+  // Two parallel walls 2 m apart, 30 m long, no door: a scan inside fits anywhere along it.
+  std::vector<Eigen::Vector2f> corridor;
+  for (int i = 0; i <= 1500; ++i) {
+    corridor.emplace_back(i * 0.02f, 0.0f);
+    corridor.emplace_back(i * 0.02f, 2.0f);
+  }
+  const Eigen::Vector3f truth(15.0f, 1.0f, 0.0f);
+  const std::vector<Eigen::Vector2f> scan = scanFrom(corridor, truth, 5.0f, 2, 0.01f, 5);
+  CorrelativeOptions o;
+  o.resolution = 0.1f;
+  o.linearWindow = 2.0f;
+  o.angularWindow = 0.1f;
+  o.minScore = 0.5f;
+  o.maxSecondPeakRatio = 0.9f;
+  const CorrelativeResult r = matchCorrelative(corridor, scan, truth + Eigen::Vector3f(1.0f, 0.3f, 0.0f), o);
+  EXPECT_FALSE(r.found) << "a corridor match at x = " << r.pose.x() << " passed the ambiguity test";
+  EXPECT_NE(r.why.find("ambiguous"), std::string::npos) << r.why;
+  // The room has no such twin: with the test on, it still finds the pose metres from the guess.
+  const std::vector<Eigen::Vector2f> ref = room();
+  const Eigen::Vector3f roomTruth(6.3f, 5.1f, 0.4f);
+  const std::vector<Eigen::Vector2f> roomScan = scanFrom(ref, roomTruth, 8.0f, 3, 0.01f, 1);
+  o.angularWindow = 0.35f;
+  const CorrelativeResult inRoom = matchCorrelative(ref, roomScan, roomTruth + Eigen::Vector3f(-1.6f, 1.3f, -0.25f), o);
+  ASSERT_TRUE(inRoom.found) << inRoom.why;
+  EXPECT_NEAR(inRoom.pose.x(), roomTruth.x(), 2 * o.resolution);
+  EXPECT_NEAR(inRoom.pose.y(), roomTruth.y(), 2 * o.resolution);
+}
+
 TEST(CorrelativeScanMatcher, BadInputIsRefusedWithAReason) {
   const std::vector<Eigen::Vector2f> ref = room();
   CorrelativeOptions o;
@@ -159,7 +223,9 @@ TEST(CorrelativeScanMatcher, BadInputIsRefusedWithAReason) {
   using Edit = void (*)(CorrelativeOptions&);
   for (Edit bad : {Edit([](CorrelativeOptions& x) { x.resolution = 0; }), Edit([](CorrelativeOptions& x) { x.minScore = 1.5f; }),
                    Edit([](CorrelativeOptions& x) { x.angularWindow = -1; }),
-                   Edit([](CorrelativeOptions& x) { x.linearWindow = NAN; })}) {
+                   Edit([](CorrelativeOptions& x) { x.linearWindow = NAN; }),
+                   Edit([](CorrelativeOptions& x) { x.maxSecondPeakRatio = 0; }),
+                   Edit([](CorrelativeOptions& x) { x.peakSeparation = -1; })}) {
     CorrelativeOptions b;
     bad(b);
     std::string why;

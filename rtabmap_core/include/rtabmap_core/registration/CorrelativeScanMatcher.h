@@ -29,14 +29,21 @@ struct CorrelativeOptions {
   float linearWindow = 2.0f;    // search +- this in x and y around the guess (m)
   float angularWindow = 0.35f;  // search +- this around the guess' yaw (rad)
   float minScore = 0.55f;       // the best pose must score at least this (0..1)
+  // Ambiguity test: refuse the match when a pose farther than peakSeparation (m) or turned more
+  // than peakAngleSeparation (rad) from the best scores at least maxSecondPeakRatio times the
+  // best (a corridor, a hub of look-alike doors: the best peak is then chance). 1 = no test.
+  float maxSecondPeakRatio = 1.0f;
+  float peakSeparation = 0.5f;
+  float peakAngleSeparation = 0.2f;
   bool IsValid(std::string* why = nullptr) const;
 };
 
 struct CorrelativeResult {
-  bool found = false;                            // a pose scored >= minScore
+  bool found = false;                            // a pose scored >= minScore, unambiguous
   Eigen::Vector3f pose = Eigen::Vector3f::Zero();  // x, y, yaw of the scan in the reference frame
   float score = 0.0f;                            // of `pose` (of the best pose seen when !found)
   float guessScore = 0.0f;                       // of the guess itself
+  float secondScore = 0.0f;                      // of a far pose reaching the ratio (ambiguous)
   long scoredCandidates = 0;                     // work done by branch and bound
   std::string why;                               // when !found
 };

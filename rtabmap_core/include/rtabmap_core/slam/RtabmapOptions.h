@@ -44,6 +44,7 @@ struct RtabmapOptions {
   float proximityCorrelativeAngle = 20.0f;      // RGBD/ProximityCorrelativeAngle (deg)
   float proximityCorrelativeMinScore = 0.6f;    // RGBD/ProximityCorrelativeMinScore
   float proximityCorrelativeResolution = 0.1f;  // RGBD/ProximityCorrelativeResolution (m)
+  float proximityCorrelativeMaxPeakRatio = 0.9f;  // RGBD/ProximityCorrelativeMaxPeakRatio (1 = off)
   // Graph
   float optimizeMaxError = 3.0f;          // RGBD/OptimizeMaxError (standard deviations, 0 = off)
   bool optimizeFromGraphEnd = false;      // RGBD/OptimizeFromGraphEnd
