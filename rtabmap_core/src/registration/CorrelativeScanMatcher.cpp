@@ -108,6 +108,24 @@ struct Search {
   float best;  // the score to beat (minScore at first)
   Candidate bestCandidate;
   bool found = false;
+  // Second-peak search (Olson 2009, section IV.C: a match is only as good as its margin over the
+  // next hypothesis): poses within `separation` cells and `rotationSeparation` rotation steps of
+  // `exclude` are left out. A block stays an upper bound of its far leaves.
+  const Candidate* exclude = nullptr;
+  int separation = 0, rotationSeparation = 0;
+
+  bool nearExcluded(int ox, int oy) const {
+    const int dx = ox - exclude->ox, dy = oy - exclude->oy;
+    return dx * dx + dy * dy <= separation * separation;
+  }
+  // True when every leaf of the block is near the excluded peak. A pose turned farther than the
+  // angular separation is another hypothesis even in the same place (a round hall seen rotated).
+  bool blockExcluded(const Candidate& c, int h) const {
+    if (!exclude || std::abs(c.rotation - exclude->rotation) > rotationSeparation) return false;
+    const int span = (1 << h) - 1;
+    return nearExcluded(c.ox, c.oy) && nearExcluded(c.ox + span, c.oy) && nearExcluded(c.ox, c.oy + span) &&
+           nearExcluded(c.ox + span, c.oy + span);
+  }
 
   Candidate scoredCandidate(int rotation, int ox, int oy, int h) {
     ++scored;
@@ -120,6 +138,7 @@ struct Search {
               [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     for (const Candidate& c : candidates) {
       if (c.score <= best) return;  // sorted: no other candidate here can do better
+      if (blockExcluded(c, h)) continue;
       if (h == 0) {
         best = c.score;
         bestCandidate = c;
@@ -132,60 +151,6 @@ struct Search {
         for (int dx = 0; dx <= s; dx += s) {
           if (c.ox + dx > window || c.oy + dy > window) continue;
           children.push_back(scoredCandidate(c.rotation, c.ox + dx, c.oy + dy, h - 1));
-        }
-      }
-      branch(children, h - 1);
-    }
-  }
-};
-
-// A pose away from the first peak (farther than `separation` cells or `rotationSeparation`
-// rotation steps) scoring over `best` (Olson 2009, section IV.C: a match is only as good as its
-// margin over the next hypothesis). Same branch and bound, with the leaves near the first peak
-// left out (a block stays an upper bound of its far leaves); stops at the first such leaf.
-struct SecondPeakSearch {
-  const LikelihoodLevels& levels;
-  const std::vector<std::vector<Eigen::Vector2i>>& rotated;
-  int window;
-  Candidate first;
-  int separation;          // cells
-  int rotationSeparation;  // rotation steps
-  long scored = 0;
-  float best;  // the score to beat
-  bool found = false;
-
-  bool nearFirst(int ox, int oy) const {
-    const int dx = ox - first.ox, dy = oy - first.oy;
-    return dx * dx + dy * dy <= separation * separation;
-  }
-  // True when every leaf of the block is near the first peak: nothing to find there. A pose
-  // turned farther than the angular separation is another hypothesis even in the same place
-  // (a round hall seen rotated).
-  bool blockNearFirst(int rotation, int ox, int oy, int h) const {
-    if (std::abs(rotation - first.rotation) > rotationSeparation) return false;
-    const int span = (1 << h) - 1;
-    return nearFirst(ox, oy) && nearFirst(ox + span, oy) && nearFirst(ox, oy + span) && nearFirst(ox + span, oy + span);
-  }
-
-  void branch(std::vector<Candidate>& candidates, int h) {
-    std::sort(candidates.begin(), candidates.end(),
-              [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-    for (const Candidate& c : candidates) {
-      if (c.score <= best) return;
-      if (blockNearFirst(c.rotation, c.ox, c.oy, h)) continue;
-      if (h == 0) {
-        best = c.score;
-        found = true;
-        return;
-      }
-      const int s = 1 << (h - 1);
-      std::vector<Candidate> children;
-      for (int dy = 0; dy <= s; dy += s) {
-        for (int dx = 0; dx <= s; dx += s) {
-          if (c.ox + dx > window || c.oy + dy > window) continue;
-          ++scored;
-          children.push_back(Candidate{c.rotation, c.ox + dx, c.oy + dy,
-                                       levels.score(rotated[c.rotation], h - 1, c.ox + dx, c.oy + dy)});
         }
       }
       branch(children, h - 1);
@@ -303,8 +268,8 @@ CorrelativeResult matchCorrelative(const std::vector<Eigen::Vector2f>& reference
     // Only whether some far pose reaches the ratio matters: that is the bound to beat.
     const int separation = static_cast<int>(std::ceil(o.peakSeparation / o.resolution));
     const int rotationSeparation = step > 0.0f ? static_cast<int>(std::ceil(o.peakAngleSeparation / step)) : 0;
-    SecondPeakSearch second{grid,       rotated, window, b, separation, rotationSeparation,
-                            0,          o.maxSecondPeakRatio * b.score - 1e-6f, false};
+    Search second{grid, rotated, window, 0, o.maxSecondPeakRatio * b.score - 1e-6f, Candidate(), false,
+                  &b,   separation, rotationSeparation};
     // `top` keeps its top-level scores: the first search only sorted it.
     second.branch(top, levels);
     result.scoredCandidates += second.scored;
