@@ -68,11 +68,13 @@ def right_half_mounting(transforms):
 
 def split_bag(source, target):
     with rosbag.Bag(source) as bag_in, rosbag.Bag(target, "w") as bag_out:
-        for topic, msg, t in bag_in.read_messages():
+        for topic, msg, t, header in bag_in.read_messages(return_connection_header=True):
             if topic == "/tf_static":
                 msg.transforms.append(right_half_mounting(msg.transforms))
             if topic not in CAMERA_TOPICS:
-                bag_out.write(topic, msg, t)
+                # The connection header keeps /tf_static latched on replay: published once, it
+                # would be lost by a tf listener whose connection to rosbag is not up yet.
+                bag_out.write(topic, msg, t, connection_header=header)
                 continue
             split = info_half if topic.endswith("camera_info") else image_half
             for camera, right in (("/cam0/", False), ("/cam1/", True)):
