@@ -1,6 +1,8 @@
 #include "rtabmap_conversions/LaserScanConversions.h"
 
 #include <gtest/gtest.h>
+#include <laser_geometry/laser_geometry.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <cmath>
 #include <limits>
@@ -155,4 +157,23 @@ TEST(LaserScanConversions, ScansWithoutBeamsCannotBecomeLaserScanMessages) {
   cv::Mat xy(1, 3, CV_32FC2, cv::Scalar(1, 2));
   EXPECT_FALSE(laserScanToMsg(LaserScan(xy, 3, 0, 10, LaserScan::kXY), std_msgs::Header(), &error));
   EXPECT_NE(error.find("beam geometry"), std::string::npos) << error;
+}
+
+// The classic path projects scans with laser_geometry: ours must give the same points, so a
+// map made from either agrees (same beams kept, same positions).
+TEST(LaserScanConversions, SamePointsAsLaserGeometry) {
+  const sensor_msgs::LaserScan msg = urgScan(true);
+  sensor_msgs::PointCloud2 reference;
+  laser_geometry::LaserProjection().projectLaser(msg, reference, -1.0, laser_geometry::channel_option::Intensity);
+  std::string error;
+  const std::optional<LaserScan> scan = laserScanFromMsg(msg, Transform::Identity(), &error);
+  ASSERT_TRUE(scan) << error;
+  ASSERT_EQ(size_t(scan->size()), size_t(reference.width) * reference.height);
+  sensor_msgs::PointCloud2ConstIterator<float> it(reference, "x"), intensity(reference, "intensity");
+  for (int i = 0; i < scan->size(); ++i, ++it, ++intensity) {
+    const float* p = scan->data().ptr<float>(0) + 3 * i;
+    EXPECT_NEAR(p[0], it[0], 1e-5) << "point " << i;
+    EXPECT_NEAR(p[1], it[1], 1e-5) << "point " << i;
+    EXPECT_FLOAT_EQ(p[2], *intensity) << "point " << i;
+  }
 }

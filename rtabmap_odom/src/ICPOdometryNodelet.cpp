@@ -4,14 +4,22 @@
 // Own parameters (classic names; each sets the core ICP step that does it, see
 // rtabmap_odom/NodeParameters.h): scan_range_min, scan_range_max (m), scan_voxel_size (m),
 // scan_downsampling_step, scan_normal_k, scan_normal_radius (m).
-// deskewing: not implemented. Correcting a scan for the motion during its sweep needs each
-// point's time and the motion over the sweep; neither LaserScan nor the clouds we read carry
-// per-point times here, so a deskewing=true request is reported and ignored.
+// deskewing (false): move each point of a sweep to where it would have been measured at the
+// message's stamp (rtabmap_conversions/Deskewing.h). Point times come from the LaserScan's
+// time_increment (projected through laser_geometry) or the cloud's time field; the motion over
+// the sweep from tf through guess_frame_id when set (wheel odometry), else from the odometry's
+// own last motion (constant velocity). A frame that cannot be deskewed is used as it is, with a
+// throttled warning saying why.
 // Common parameters, topics and services: OdometryNodelet.h.
 #include <pluginlib/class_list_macros.hpp>
 
+#include <algorithm>
+
 #include "OdometryNodelet.h"
+#include "rtabmap_conversions/Deskewing.h"
+#include "rtabmap_conversions/PointCloudConversions.h"
 #include "rtabmap_odom/NodeParameters.h"
+#include "rtabmap_odom/PrivateParameters.h"
 #include "rtabmap_sync/FrameAssembly.h"
 
 namespace rtabmap_ros {
@@ -41,11 +49,7 @@ class ICPOdometryNodelet : public OdometryNodelet {
     pnh.param("scan_downsampling_step", o.downsamplingStep, o.downsamplingStep);
     pnh.param("scan_normal_k", o.normalK, o.normalK);
     pnh.param("scan_normal_radius", o.normalRadius, o.normalRadius);
-    bool deskewing = false;
-    if (pnh.getParam("deskewing", deskewing) && deskewing) {
-      NODELET_WARN("%s: deskewing is not implemented (no per-point times); scans are used as they are.",
-                   getName().c_str());
-    }
+    pnh.param("deskewing", deskewing_, deskewing_);
     std::string why;
     if (!o.IsValid(&why)) {
       NODELET_ERROR("%s: %s; the scan options are ignored.", getName().c_str(), why.c_str());
@@ -61,7 +65,9 @@ class ICPOdometryNodelet : public OdometryNodelet {
     const char* topic = d.scan ? "scan" : "scan_cloud";
     const rtabmap::Transform local = sensorPose(header.frame_id, header.stamp, error);
     if (local.isNull()) return std::nullopt;
-    std::optional<rtabmap::LaserScan> scan = rtabmap_sync::syncedScan(d.scan, d.scanCloud, local, error);
+    std::optional<rtabmap::LaserScan> scan;
+    if (deskewing_) scan = deskewedScan(d, local);
+    if (!scan) scan = rtabmap_sync::syncedScan(d.scan, d.scanCloud, local, error);
     if (!scan) return std::nullopt;
     if (scan->empty()) {
       if (error) *error = std::string(topic) + ": no valid point (every range NaN, infinite or out of limits)";
@@ -70,11 +76,50 @@ class ICPOdometryNodelet : public OdometryNodelet {
     return rtabmap::SensorData(*scan, 0, header.stamp.toSec());
   }
 
+  // The synchronised scan or cloud deskewed (see the top of the file); nullopt (with a throttled
+  // warning) when it cannot be: no point times, no tf, no velocity yet.
+  std::optional<rtabmap::LaserScan> deskewedScan(const rtabmap_sync::SyncedData& d, const rtabmap::Transform& local) {
+    sensor_msgs::PointCloud2 cloud = d.scan ? rtabmap_conversions::timedCloudFromScan(*d.scan) : *d.scanCloud;
+    std::string why;
+    std::optional<std::vector<double>> times = rtabmap_conversions::pointTimes(cloud, &why);
+    std::optional<rtabmap_conversions::SweepMotion> motion;
+    if (times && !times->empty()) motion = sweepMotion(cloud.header, *times, local, &why);
+    std::optional<rtabmap::LaserScan> scan;
+    if (motion && rtabmap_conversions::deskewCloud(cloud, *times, *motion, &why)) {
+      // A scan keeps its sensor's range limits (the cloud has none).
+      const double rangeMin = d.scan ? d.scan->range_min : 0.0, rangeMax = d.scan ? d.scan->range_max : 0.0;
+      scan = rtabmap_conversions::laserScanFromCloudMsg(cloud, local, &why, rangeMin, rangeMax);
+      if (scan && d.scan) scan = rtabmap_conversions::planarScan(*scan);
+    }
+    if (!scan && !why.empty() && deskewWarnings_.due(rtabmap_odom::throttleKey(why))) {
+      NODELET_WARN("%s: frame at %.6f not deskewed: %s", getName().c_str(), cloud.header.stamp.toSec(), why.c_str());
+    }
+    return scan;
+  }
+
+  // The sensor's motion over the sweep: tf through guess_frame_id, else the last odometry motion
+  // moved into the sensor frame.
+  std::optional<rtabmap_conversions::SweepMotion> sweepMotion(const std_msgs::Header& header,
+                                                               const std::vector<double>& times,
+                                                               const rtabmap::Transform& local, std::string* why) {
+    if (!guessFrameId().empty()) {
+      const auto [first, last] = std::minmax_element(times.begin(), times.end());
+      return rtabmap_conversions::SweepMotion::fromTf(tfBuffer(), guessFrameId(), header.frame_id, header.stamp,
+                                                      *first, *last, waitForTransform(), why);
+    }
+    double interval = 0.0;
+    const rtabmap::Transform& motion = lastMotion(&interval);
+    if (motion.isNull()) return std::nullopt;  // first frame, lost or reset: nothing to say
+    return rtabmap_conversions::SweepMotion::fromVelocity(local.inverse() * motion * local, interval);
+  }
+
   rtabmap::LaserScan frameCloud(const rtabmap::SensorData& frame) const override {
     return frame.laserScanRaw();  // scanInFrame applies its local transform
   }
 
   bool cloud_ = false;  // subscribe_scan_cloud
+  bool deskewing_ = false;
+  rtabmap_sync::LogThrottle deskewWarnings_;
 };
 
 }  // namespace rtabmap_ros

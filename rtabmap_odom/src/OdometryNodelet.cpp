@@ -182,6 +182,12 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
   const rtabmap::Transform pose = guess.isNull() ? odometry_->process(*frame, &info)
                                                  : odometry_->process(*frame, guess, &info);
   previousStamp_ = stamp;
+  if (!pose.isNull() && !info.transform.isNull() && info.interval > 0.0) {
+    lastMotion_ = info.transform;
+    lastInterval_ = info.interval;
+  } else if (info.autoReset) {
+    lastMotion_ = rtabmap::Transform();
+  }  // a lost frame keeps the last velocity: the robot most likely still moves the same way
   ++updatesSinceWatch_;
   if (pose.isNull()) reportLost(info, stamp);
   publish(*frame, pose, info, stamp, guessPose);
@@ -264,6 +270,7 @@ void OdometryNodelet::resetTo(const rtabmap::Transform& pose) {
   std::lock_guard<std::mutex> lock(mutex_);
   odometry_->reset(pose);
   previousStamp_ = ros::Time();
+  lastMotion_ = rtabmap::Transform();
   limiter_.reset();
   NODELET_INFO("%s: odometry reset to %s", getName().c_str(), pose.prettyPrint().c_str());
 }
@@ -299,6 +306,7 @@ bool OdometryNodelet::onResume(std_srvs::Empty::Request&, std_srvs::Empty::Respo
   paused_ = false;
   // The guess must not span the pause: the robot may have moved a lot meanwhile.
   previousStamp_ = ros::Time();
+  lastMotion_ = rtabmap::Transform();
   return true;
 }
 

@@ -67,6 +67,17 @@ class OdometryNodelet : public nodelet::Nodelet {
   // wait_for_transform_duration; null with *error naming the frames otherwise.
   rtabmap::Transform sensorPose(const std::string& sensorFrame, const ros::Time& stamp, std::string* error) const;
 
+  const tf2::BufferCore& tfBuffer() const { return *tfBuffer_; }
+  const std::string& guessFrameId() const { return guessFrameId_; }
+  double waitForTransform() const { return waitForTransform_; }
+  // The odometry's last motion of frame_id and the seconds it took (null before the first
+  // motion and after a reset; kept through lost frames): the constant-velocity model of the
+  // current frame's sweep.
+  const rtabmap::Transform& lastMotion(double* interval) const {
+    *interval = lastInterval_;
+    return lastMotion_;
+  }
+
  private:
   void onInit() final;
   void readNodeParameters(ros::NodeHandle& pnh);
@@ -107,6 +118,8 @@ class OdometryNodelet : public nodelet::Nodelet {
   std::unique_ptr<rtabmap::Odometry> odometry_;
   bool paused_ = false;
   ros::Time previousStamp_;  // stamp of the previous processed frame (for the guess)
+  rtabmap::Transform lastMotion_;  // see lastMotion()
+  double lastInterval_ = 0.0;
   rtabmap_odom::UpdateRateLimiter limiter_;
   int updatesSinceWatch_ = 0;
   ros::WallTime lastWatch_;
