@@ -16,6 +16,7 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import OccupancyGrid, Odometry
 from nav_msgs.srv import GetMap
 from std_srvs.srv import Empty
+from tf2_msgs.msg import TFMessage
 
 from rtabmap_ros.msg import Info, MapGraph
 from rtabmap_ros.srv import ListLabels, SetLabel
@@ -50,6 +51,14 @@ class SlamRtabmapTest(unittest.TestCase):
         rospy.Subscriber("/odom", Odometry, lambda m: self.odom.__setitem__(m.header.stamp.to_nsec(), m))
         self.tf_buffer = tf2_ros.Buffer(rospy.Duration(600.0))
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        # map -> odom as it arrives: (stamp, ROS time and wall time at arrival).
+        self.map_to_odom = []
+        rospy.Subscriber("/tf", TFMessage, self.on_tf, queue_size=1000)
+
+    def on_tf(self, msg):
+        for t in msg.transforms:
+            if t.header.frame_id == "map" and t.child_frame_id == "odom":
+                self.map_to_odom.append((t.header.stamp.to_sec(), rospy.Time.now().to_sec(), time.time()))
 
     def make_bag(self, duration, start_stamp=1700000000):
         folder = common.workdir(self, "slam_rtabmap_")
@@ -110,12 +119,22 @@ class SlamRtabmapTest(unittest.TestCase):
         self.check_services(graph)
 
     def check_map_to_odom(self, graph):
-        """The timer publishes the core's latest correction: the one mapGraph carries."""
+        """The timer publishes the core's latest correction: the one mapGraph carries, every
+        tf_delay (0.1 s here, wall clock) stamped tf_tolerance (0.3 s) ahead of the ROS time."""
         t = self.tf_buffer.lookup_transform("map", "odom", rospy.Time(0)).transform
         m = graph.mapToOdom
         self.assertAlmostEqual(t.translation.x, m.translation.x, places=4)
         self.assertAlmostEqual(t.translation.y, m.translation.y, places=4)
         self.assertAlmostEqual(t.rotation.z, m.rotation.z, places=4)
+        samples = list(self.map_to_odom)
+        self.assertGreater(len(samples), 100)
+        period = float(np.median(np.diff([wall for _, _, wall in samples])))
+        ahead = float(np.median([stamp - now for stamp, now, _ in samples]))
+        rospy.loginfo("map -> odom: %d messages, every %.3f s (wall), stamped %.3f s ahead", len(samples), period,
+                      ahead)
+        self.assertTrue(0.08 < period < 0.15, period)
+        # Ahead by tf_tolerance, less the delivery latency (seen on a clock running 6x).
+        self.assertTrue(0.15 < ahead <= 0.3 + 1e-6, ahead)
 
     def check_accuracy(self, graph):
         """Absolute trajectory error of the optimised nodes against the simulator's ground truth
