@@ -1,6 +1,7 @@
 #include "rtabmap_core/registration/MotionEstimation.h"
 
 #include "rtabmap_core/registration/RegistrationVis.h"
+#include "MultiCameraReprojection.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -342,18 +343,8 @@ Eigen::Matrix<double, 6, 6> covarianceFromReprojection(const std::vector<cv::Poi
 
 namespace {
 
-// One correspondence of a multi-camera PnP: reference point, its pixel in its camera's
-// sub-image (offset removed), and that camera's base -> optical transform and intrinsics.
-struct CameraObservation {
-  Eigen::Vector3d point;
-  Eigen::Vector2d pixel;
-  int camera = 0;
-};
-
-struct PinholeCamera {
-  Eigen::Isometry3d opticalFromBase;
-  double fx, fy, cx, cy;
-};
+using registration_internal::CameraObservation;
+using registration_internal::PinholeCamera;
 
 // Reprojection residual (pixels) of an observation under the new base pose T; false when the
 // point is behind its camera.
@@ -364,14 +355,6 @@ bool reprojectionResidual(const Eigen::Isometry3d& T, const CameraObservation& o
   if (q.z() <= 1e-6) return false;
   r = Eigen::Vector2d(c.fx * q.x() / q.z() + c.cx, c.fy * q.y() / q.z() + c.cy) - o.pixel;
   return true;
-}
-
-Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, const Eigen::Matrix<double, 6, 1>& d) {
-  Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
-  const double angle = d.tail<3>().norm();
-  if (angle > 0.0) D.linear() = Eigen::AngleAxisd(angle, d.tail<3>() / angle).toRotationMatrix();
-  D.translation() = d.head<3>();
-  return T * D;
 }
 
 std::vector<int> reprojectionInliers(const Eigen::Isometry3d& T, const std::vector<CameraObservation>& obs,
@@ -386,38 +369,6 @@ std::vector<int> reprojectionInliers(const Eigen::Isometry3d& T, const std::vect
   }
   if (rmse) *rmse = inliers.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(inliers.size()));
   return inliers;
-}
-
-// Gauss-Newton on the reprojection errors of the inliers (numerical Jacobian: six cheap
-// projections per point), the pose perturbed on the right (in the base frame).
-Eigen::Isometry3d refineReprojection(Eigen::Isometry3d T, const std::vector<CameraObservation>& obs,
-                                     const std::vector<int>& inliers, const std::vector<PinholeCamera>& cams) {
-  const double h = 1e-6;
-  for (int iteration = 0; iteration < 10; ++iteration) {
-    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    Eigen::Vector2d r, rp;
-    for (int k : inliers) {
-      const CameraObservation& o = obs[static_cast<size_t>(k)];
-      if (!reprojectionResidual(T, o, cams, r)) continue;
-      Eigen::Matrix<double, 2, 6> J;
-      bool ok = true;
-      for (int j = 0; j < 6 && ok; ++j) {
-        Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
-        d(j) = h;
-        ok = reprojectionResidual(perturbed(T, d), o, cams, rp);
-        J.col(j) = (rp - r) / h;
-      }
-      if (!ok) continue;
-      H += J.transpose() * J;
-      g += J.transpose() * r;
-    }
-    const Eigen::Matrix<double, 6, 1> step = H.ldlt().solve(-g);
-    if (!step.allFinite()) break;
-    T = perturbed(T, step);
-    if (step.norm() < 1e-9) break;
-  }
-  return T;
 }
 
 }  // namespace
@@ -470,7 +421,7 @@ MotionEstimate estimateMotionMultiCameraPnP(const std::vector<cv::Point3f>& obje
     if (it != index.end() && *it == i) inliers.push_back(static_cast<int>(it - index.begin()));
   }
   for (int it = 0; it < std::max(1, pnp.refineIterations) + 1 && inliers.size() >= 4; ++it) {
-    T = refineReprojection(T, obs, inliers, cams);
+    T = registration_internal::refineMultiCameraReprojection(T, obs, inliers, cams, 10);
     inliers = reprojectionInliers(T, obs, cams, pnp.reprojError, nullptr);
   }
   if (static_cast<int>(inliers.size()) < pnp.minInliers || inliers.size() < 4) {
