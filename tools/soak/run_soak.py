@@ -40,7 +40,8 @@ SIM_OPTIONS = ["--scenario", "long", "--rate", "1", "--width", "320", "--height"
                "--texture-size", "128"]
 INFO_STATS = ("Timing/Total/ms", "Memory/Working_memory_size/", "Memory/Short_time_memory_size/",
               "Memory/Durable_node_id/", "Memory/Database_write_failed/", "Memory/Small_movement/",
-              "Memory/Signatures_retrieved/", "Memory/RAM_usage/MB", "Memory/Local_graph_size/")
+              "Memory/Signatures_retrieved/", "Memory/RAM_usage/MB", "Memory/Local_graph_size/",
+              "Memory/Heap_free/MB", "Memory/Database_memory_used/MB", "Memory/Grid_memory_used/MB")
 
 
 def log(message):
@@ -268,6 +269,7 @@ def analyse(args, meta, recorded, database, run_log):
                                                   if "Timing/Total/ms" in u["stats"]], (50, 95, 99, 100))
     figures["update_time_windows"] = metrics.windowed_update_times(updates, args.window)
     figures["stages"] = metrics.stage_times(updates, 1200.0)
+    figures["memory_breakdown"] = metrics.memory_breakdown(updates, figures["rss_reference_robot_s"])
     wm = [u["stats"].get("Memory/Working_memory_size/", 0) for u in updates]
     figures["max_wm"] = int(max(wm)) if wm else 0
     # Crashes: roslaunch's reports, a node seen with a second pid, a node gone while playing.

@@ -102,6 +102,28 @@ def stage_times(updates, span_s):
     return sorted(rows, key=lambda r: -r[2])
 
 
+MEMORY_STATS = (("heap in use (live data)", "Memory/RAM_usage/MB"), ("heap kept free by malloc", "Memory/Heap_free/MB"),
+                ("SQLite (page caches)", "Memory/Database_memory_used/MB"),
+                ("global grid cache (every node)", "Memory/Grid_memory_used/MB"))
+
+
+def memory_breakdown(updates, reference_s, window_s=300.0):
+    """Where the node's RAM goes, from the core's own counts in `info` (heap in use and free, SQLite,
+    the grid's per-node cache): mean over the first window after the reference and over the last
+    window. [(what, first_mb, last_mb)], only the counts the node published."""
+    if not updates:
+        return []
+    t0, t1 = updates[0]["stamp"], updates[-1]["stamp"]
+    first = [u["stats"] for u in updates if reference_s <= u["stamp"] - t0 < reference_s + window_s]
+    last = [u["stats"] for u in updates if t1 - u["stamp"] < window_s]
+    rows = []
+    for name, key in MEMORY_STATS:
+        a, b = [r[key] for r in first if key in r], [r[key] for r in last if key in r]
+        if a and b:
+            rows.append((name, float(np.mean(a)), float(np.mean(b))))
+    return rows
+
+
 def wm_full_time(updates, memory_threshold):
     """Robot time (s since the first update) when Working Memory first held memory_threshold
     nodes (Rtabmap/MemoryThr: from then on every new node moves an old one to the database);

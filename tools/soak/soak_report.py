@@ -184,6 +184,12 @@ def markdown(figures, checks):
         lines += ["", "## Stages of the update: mean time over the first and the last 20 min of robot time", "",
                   "| stage | first 20 min (ms) | last 20 min (ms) |", "|---|---|---|"]
         lines += ["| %s | %.1f | %.1f |" % row for row in f["stages"][:12]]
+    if f.get("memory_breakdown"):
+        lines += ["", "## Memory of the SLAM node as the core counts it: mean over the 5 min after the reference "
+                  "and the last 5 min", "", "| part | after the reference (MB) | last 5 min (MB) |", "|---|---|---|"]
+        lines += ["| %s | %.1f | %.1f |" % tuple(row) for row in f["memory_breakdown"]]
+        lines += ["", "The resident size is the heap in use and kept free, plus code, stacks and the allocator's "
+                  "per-thread arenas."]
     lines += ["", "![rss](rss.png)", "", "![update time](update_time.png)", "", "![wm](wm_size.png)", "",
               "![database](db_size.png)", "",
               "Files: `run.log` (roslaunch, the node, the tools), `report.json` (every figure), `rtabmap.db` (open "

@@ -8,6 +8,7 @@
 #include "ProximityBySpace.h"
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/memory/ProcessMemory.h"
 
 namespace rtabmap {
 namespace {
@@ -333,6 +334,13 @@ void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nod
   stats.addStatistic(Statistics::kMemorySignatures_retrieved, static_cast<float>(u.retrieved.size()));
   stats.addStatistic(Statistics::kMemorySignatures_removed, static_cast<float>(u.transferred.size()));
   stats.addStatistic(Statistics::kKeypointDictionary_size, static_cast<float>(memory.vocabulary().size()));
+  // Where the RAM goes (the soak's memory goal): live heap, what malloc keeps free, SQLite's
+  // caches, and the global grid's per-node cells (the one cache of the whole map, LTM included).
+  constexpr float kMb = 1.0f / (1024.0f * 1024.0f);
+  stats.addStatistic(Statistics::kMemoryRAM_usage, static_cast<float>(rtabmap::memory::heapInUse()) * kMb);
+  stats.addStatistic("Memory/Heap_free/MB", static_cast<float>(rtabmap::memory::heapFree()) * kMb);
+  stats.addStatistic(Statistics::kMemoryDatabase_memory_used, static_cast<float>(rtabmap::memory::sqliteInUse()) * kMb);
+  if (grid) stats.addStatistic("Memory/Grid_memory_used/MB", static_cast<float>(grid->memoryUsed()) * kMb);
   stats.addStatistic(Statistics::kTimingTotal, static_cast<float>(totalMs));
   if (db && options.incremental) {
     // What is safe on disk: every node up to this one survives a crash (the writer commits in

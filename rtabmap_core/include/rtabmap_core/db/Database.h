@@ -61,8 +61,8 @@ struct DatabaseOptions {
   // node also survives power loss, at the price of one fsync per transaction (the writer
   // pays it, not the caller). OFF never syncs: a power loss may corrupt the file.
   Synchronous synchronous = Synchronous::kNormal;
-  // Page cache of each connection, in pages (DbSqlite3/CacheSize).
-  int cacheSize = 10000;
+  // Page cache of each connection, in pages (DbSqlite3/CacheSize, same default: 16 MB).
+  int cacheSize = 1000;
   // Where temporary tables and indices live (DbSqlite3/TempStore): 0 default, 1 file, 2 memory.
   int tempStore = 2;
   // Page size of a new database, in bytes (a power of two, 512..65536; an existing file keeps
