@@ -30,28 +30,49 @@ std::string format(const char* fmt, Args... args) {
   return text;
 }
 
+// The nearest target point of each source point within maxDistance. With minNormalCos > -1
+// (3D clouds, both with normals), a pair whose normals point more than its angle apart is
+// dropped: a sparse ring lidar samples the floor on rings that move with the robot, so a new
+// ring's nearest old point is often the foot of a wall or a corner, whose plane would pull the
+// scan sideways or tilt it. Dropping, not searching a farther compatible point: that would
+// pair the ring with a point up to a metre away on the floor, equally wrong along it.
 pcl::Correspondences findCorrespondences(const IcpCloud& target, const Cloud& sourceInTarget,
-                                         float maxDistance) {
+                                         float maxDistance, float minNormalCos) {
   pcl::Correspondences pairs;
   pairs.reserve(sourceInTarget.size());
   const float max2 = maxDistance * maxDistance;
+  const bool checkNormals = minNormalCos > -1.0f && target.hasNormals && !target.is2d;
   float d2 = 0.0f;
   for (size_t i = 0; i < sourceInTarget.size(); ++i) {
-    const int j = target.index.nearest(sourceInTarget[i].getVector3fMap(), max2, &d2);
-    if (j >= 0) pairs.emplace_back(static_cast<int>(i), j, d2);
+    const Point& p = sourceInTarget[i];
+    const int j = target.index.nearest(p.getVector3fMap(), max2, &d2);
+    if (j < 0) continue;
+    if (checkNormals) {
+      const float cosine = p.getNormalVector3fMap().dot((*target.cloud)[j].getNormalVector3fMap());
+      // A source point without a normal (zero) has no surface to compare: keep it.
+      const bool sourceHasNormal = p.normal_x != 0.0f || p.normal_y != 0.0f || p.normal_z != 0.0f;
+      if (sourceHasNormal && cosine < minNormalCos) continue;
+    }
+    pairs.emplace_back(static_cast<int>(i), j, d2);
   }
   return pairs;
+}
+
+// Icp/PointToPlaneMaxNormalAngle as the cosine findCorrespondences compares with (-2: off).
+float minNormalCosine(const IcpOptions& options) {
+  return options.maxNormalAngle > 0.0f ? std::cos(options.maxNormalAngle) : -2.0f;
 }
 
 // PCL's ICP loop with our index as its correspondence search (see IcpScanIndex.h for why).
 // Reciprocal correspondences are never enabled here.
 class GridCorrespondenceEstimation : public pcl::registration::CorrespondenceEstimationBase<Point, Point, float> {
  public:
-  explicit GridCorrespondenceEstimation(const IcpCloud* target) : target_(target) {
+  GridCorrespondenceEstimation(const IcpCloud* target, float minNormalCos)
+      : target_(target), minNormalCos_(minNormalCos) {
     corr_name_ = "GridCorrespondenceEstimation";
   }
   void determineCorrespondences(pcl::Correspondences& correspondences, double maxDistance) override {
-    correspondences = findCorrespondences(*target_, *input_, static_cast<float>(maxDistance));
+    correspondences = findCorrespondences(*target_, *input_, static_cast<float>(maxDistance), minNormalCos_);
   }
   void determineReciprocalCorrespondences(pcl::Correspondences& correspondences, double maxDistance) override {
     determineCorrespondences(correspondences, maxDistance);
@@ -62,6 +83,7 @@ class GridCorrespondenceEstimation : public pcl::registration::CorrespondenceEst
 
  private:
   const IcpCloud* target_;
+  float minNormalCos_;
 };
 
 // Spread of the source points: smallest over largest eigenvalue of their covariance (in the
@@ -204,7 +226,7 @@ Transform registerClouds(const IcpCloud& target, const IcpCloud& source, const T
   // Correspondences come from the target's index, built by the caller once (an odometry map
   // serves many scans between key frames). The empty kd-tree, marked never to be recomputed,
   // keeps PCL from building one it would not use.
-  icp.setCorrespondenceEstimation(std::make_shared<GridCorrespondenceEstimation>(&target));
+  icp.setCorrespondenceEstimation(std::make_shared<GridCorrespondenceEstimation>(&target, minNormalCosine(options)));
   icp.setSearchMethodTarget(std::make_shared<Tree>(), true);
   icp.setMaxCorrespondenceDistance(options.maxCorrespondenceDistance);
   icp.setMaximumIterations(options.iterations);
@@ -255,7 +277,8 @@ Transform registerClouds(const IcpCloud& target, const IcpCloud& source, const T
   // Acceptance on the final alignment.
   Cloud sourceInTarget;
   pcl::transformPointCloudWithNormals(*source.cloud, sourceInTarget, result.toEigen().matrix().cast<float>());
-  const pcl::Correspondences pairs = findCorrespondences(target, sourceInTarget, options.maxCorrespondenceDistance);
+  const pcl::Correspondences pairs =
+      findCorrespondences(target, sourceInTarget, options.maxCorrespondenceDistance, minNormalCosine(options));
   info.icpCorrespondences = static_cast<int>(pairs.size());
   info.icpInliersRatio = static_cast<double>(pairs.size()) /
                          std::max(1, std::min(source.expectedPoints, target.expectedPoints));

@@ -1,7 +1,7 @@
 // Preparing scans for ICP: LaserScan -> PCL cloud, filters, normals, structural complexity.
 #include "IcpCloud.h"
 
-#include <pcl/features/normal_3d.h>
+#include <Eigen/Eigenvalues>
 
 #include <cmath>
 #include <algorithm>
@@ -144,27 +144,62 @@ void computeNormals2D(Cloud& cloud, int k, float radius, const Eigen::Vector3f& 
   }
 }
 
+NeighbourhoodShape neighbourhoodShape(const Eigen::Vector3d& eigenvalues) {
+  // Standard deviations along the principal axes, largest first (Demantke et al. 2011).
+  const double s1 = std::sqrt(std::max(0.0, eigenvalues(2)));
+  const double s2 = std::sqrt(std::max(0.0, eigenvalues(1)));
+  const double s3 = std::sqrt(std::max(0.0, eigenvalues(0)));
+  NeighbourhoodShape shape;
+  if (!(s1 > 0.0)) return shape;
+  shape.linearity = (s1 - s2) / s1;
+  shape.planarity = (s2 - s3) / s1;
+  shape.scattering = s3 / s1;
+  return shape;
+}
+
 void computeNormals3D(Cloud& cloud, int k, float radius, const Eigen::Vector3f& viewpoint,
                       float groundNormalsUp) {
   if (cloud.empty()) return;
   Cloud::Ptr input(new Cloud(cloud));
-  pcl::NormalEstimation<Point, pcl::Normal> estimation;
-  estimation.setInputCloud(input);
-  estimation.setSearchMethod(Tree::Ptr(new Tree));
-  if (radius > 0.0f) {
-    estimation.setRadiusSearch(radius);
-  } else {
-    estimation.setKSearch(std::max(k, 3));
-  }
-  estimation.setViewPoint(viewpoint.x(), viewpoint.y(), viewpoint.z());
-  pcl::PointCloud<pcl::Normal> normals;
-  estimation.compute(normals);
+  Tree tree;
+  tree.setInputCloud(input);
+  const int neighbours = std::max(k, 3);
+  pcl::Indices indices;
+  std::vector<float> distances;
   for (size_t i = 0; i < cloud.size(); ++i) {
     Point& p = cloud[i];
-    p.normal_x = normals[i].normal_x;
-    p.normal_y = normals[i].normal_y;
-    p.normal_z = normals[i].normal_z;
-    p.curvature = normals[i].curvature;
+    p.normal_x = p.normal_y = p.normal_z = 0.0f;  // undefined until proven planar
+    p.curvature = 0.0f;
+    if (radius > 0.0f) {
+      tree.radiusSearch(p, radius, indices, distances);
+    } else {
+      tree.nearestKSearch(p, neighbours, indices, distances);
+    }
+    if (indices.size() < 3) continue;
+    // Covariance about the neighbourhood's mean, in double: PCL's single-pass float sums lose
+    // the small eigenvalues of a thin neighbourhood far from the origin.
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const int j : indices) mean += (*input)[j].getVector3fMap().cast<double>();
+    mean /= static_cast<double>(indices.size());
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const int j : indices) {
+      const Eigen::Vector3d d = (*input)[j].getVector3fMap().cast<double>() - mean;
+      covariance.noalias() += d * d.transpose();
+    }
+    covariance /= static_cast<double>(indices.size());
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(covariance);
+    const Eigen::Vector3d values = solver.eigenvalues();  // ascending
+    // A normal only where the neighbourhood is a surface. On a ring lidar the k nearest points
+    // are often one ring's arc (a line: any direction around it fits as well) or straddle two
+    // surfaces (the floor and a wall): there the smallest axis is an accident of sampling, and
+    // point-to-plane would pull the scan along it (upwards on a floor seen as thin arcs).
+    if (!neighbourhoodShape(values).isPlanar()) continue;
+    const double sum = values.sum();
+    const Eigen::Vector3d normal = solver.eigenvectors().col(0).normalized();
+    p.getNormalVector3fMap() = normal.cast<float>();
+    p.curvature = sum > 0.0 ? static_cast<float>(std::max(0.0, values(0)) / sum) : 0.0f;
+    orientTowards(p, viewpoint);
     // The ground seen from a sensor above it gets upward normals anyway; but seen through a
     // gap or by a sensor tilted down, some point down, and point-to-plane pairs ground points
     // whose normals disagree. Flipping them keeps the ground one surface.

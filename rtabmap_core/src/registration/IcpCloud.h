@@ -71,8 +71,23 @@ void voxelFilter(Cloud& cloud, float voxelSize);
 // order (a planar lidar's points come ordered by bearing, and voxelFilter keeps that order):
 // no tree to build, and across a depth gap the far side is not among the nearest.
 void computeNormals2D(Cloud& cloud, int k, float radius, const Eigen::Vector3f& viewpoint);
-// Normals of a 3D cloud (PCL NormalEstimation), pointing towards `viewpoint`; with
-// groundNormalsUp > 0, normals pointing down more than that (-z alignment) are flipped up.
+// Shape of a neighbourhood from the eigenvalues of its covariance (ascending), the
+// dimensionality features of Demantke et al. 2011 ("Dimensionality based scale selection in 3D
+// lidar point clouds"): with s1 >= s2 >= s3 the standard deviations along the principal axes,
+// linearity (s1 - s2) / s1, planarity (s2 - s3) / s1, scattering s3 / s1 (they sum to 1).
+// The neighbourhood is a surface, and its smallest axis a normal, when planarity dominates.
+struct NeighbourhoodShape {
+  double linearity = 0.0;
+  double planarity = 0.0;
+  double scattering = 0.0;
+  bool isPlanar() const { return planarity > linearity && planarity > scattering; }
+};
+NeighbourhoodShape neighbourhoodShape(const Eigen::Vector3d& ascendingEigenvalues);
+
+// Normals of a 3D cloud from the k nearest neighbours (or those within radius), pointing
+// towards `viewpoint`; with groundNormalsUp > 0, normals pointing down more than that (-z
+// alignment) are flipped up. A point whose neighbourhood is not planar (NeighbourhoodShape: a
+// single ring's arc, a corner, clutter) gets no normal (zero), so removeInvalidNormals drops it.
 void computeNormals3D(Cloud& cloud, int k, float radius, const Eigen::Vector3f& viewpoint,
                       float groundNormalsUp);
 // Drops points without a finite normal; returns how many were dropped.

@@ -1,6 +1,7 @@
 #include "rtabmap_core/registration/IcpRegistration.h"
 
 #include <chrono>
+#include <cmath>
 
 #include "IcpCloud.h"
 #include "rtabmap_core/common/Error.h"
@@ -28,6 +29,7 @@ IcpOptions IcpOptions::fromParameters(const ParametersMap& p) {
   o.groundNormalsUp = Parameters::getFloat(p, Parameters::kIcpPointToPlaneGroundNormalsUp());
   o.minComplexity = Parameters::getFloat(p, Parameters::kIcpPointToPlaneMinComplexity());
   o.lowComplexityStrategy = Parameters::getInt(p, Parameters::kIcpPointToPlaneLowComplexityStrategy());
+  o.maxNormalAngle = Parameters::getFloat(p, Parameters::kIcpPointToPlaneMaxNormalAngle()) * static_cast<float>(M_PI / 180.0);
   return o;
 }
 
@@ -42,7 +44,7 @@ bool IcpOptions::IsValid(std::string* why) const {
   if (iterations < 1) return fail("Icp/Iterations must be at least 1");
   if (downsamplingStep < 1) return fail("Icp/DownsamplingStep must be at least 1");
   if (voxelSize < 0.0f || rangeMin < 0.0f || rangeMax < 0.0f || epsilon < 0.0f ||
-      maxTranslation < 0.0f || maxRotation < 0.0f || pointToPlaneRadius < 0.0f) {
+      maxTranslation < 0.0f || maxRotation < 0.0f || pointToPlaneRadius < 0.0f || maxNormalAngle < 0.0f) {
     return fail("Icp/ sizes, ranges, limits and epsilon must be >= 0");
   }
   if (rangeMax > 0.0f && rangeMin >= rangeMax) {

@@ -46,6 +46,7 @@ struct IcpOptions {
   float groundNormalsUp = 0.0f;            // Icp/PointToPlaneGroundNormalsUp
   float minComplexity = 0.02f;             // Icp/PointToPlaneMinComplexity
   int lowComplexityStrategy = 1;           // Icp/PointToPlaneLowComplexityStrategy
+  float maxNormalAngle = 0.0f;             // Icp/PointToPlaneMaxNormalAngle, here in radians (0 = any)
 
   // From Icp/* and Reg/Force3DoF (defaults for absent keys). Throws ParameterError on an
   // undeclared key or an invalid value.
