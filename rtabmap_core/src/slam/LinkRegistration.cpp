@@ -13,7 +13,8 @@
 namespace rtabmap {
 
 LinkRegistration::LinkRegistration(const ParametersMap& parameters)
-    : strategy_(Parameters::getInt(parameters, Parameters::kRegStrategy())) {
+    : strategy_(Parameters::getInt(parameters, Parameters::kRegStrategy())),
+      correlativeDrift_(Parameters::getFloat(parameters, Parameters::kRGBDProximityCorrelativeDrift())) {
   switch (strategy_) {
     case 0:
       visual_ = std::make_unique<RegistrationVis>(parameters);
@@ -65,6 +66,11 @@ float LinkRegistration::minComplexity() const {
   // ICP measures structural complexity from normals: point-to-plane only.
   const IcpOptions* o = icp_ ? &icp_->options() : visualIcp_ ? &visualIcp_->icp().options() : nullptr;
   return o && o->pointToPlane ? o->minComplexity : 0.0f;
+}
+
+float LinkRegistration::icpReach() const {
+  const IcpOptions* o = icp_ ? &icp_->options() : visualIcp_ ? &visualIcp_->icp().options() : nullptr;
+  return o ? o->maxCorrespondenceDistance : 0.0f;
 }
 
 Link::InfMatrix informationOf(const Eigen::Matrix<double, 6, 6>& covariance, bool diagonalOnly) {

@@ -32,6 +32,11 @@ class LinkRegistration {
   // Icp/PointToPlaneMinComplexity of the ICP used with Icp/PointToPlane (0 otherwise: ICP then
   // does not measure complexity).
   float minComplexity() const;
+  // Icp/MaxCorrespondenceDistance: how far from its guess ICP can pull a scan (0 without ICP).
+  float icpReach() const;
+  // RGBD/ProximityCorrelativeDrift. Read here because the proximity options struct is built
+  // elsewhere; it belongs with the other RGBD/ProximityCorrelative* options.
+  float correlativeDrift() const { return correlativeDrift_; }
 
   // Pose of `to`'s base in `from`'s base (to = from * T), null with info->rejectedMsg on
   // failure. `guess` null = none (ICP alone then refuses: it only refines a guess). The nodes'
@@ -42,6 +47,7 @@ class LinkRegistration {
 
  private:
   int strategy_;
+  float correlativeDrift_;
   std::unique_ptr<RegistrationVis> visual_;
   std::unique_ptr<IcpRegistration> icp_;
   std::unique_ptr<IcpVisualRegistration> visualIcp_;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <queue>
 
 #include "LinkRegistration.h"
 #include "ScanMerge.h"
@@ -59,10 +61,10 @@ std::vector<Eigen::Vector2f> pointsInBase2d(const LaserScan& scan) {
 // RGBD/ProximityCorrelativeWindow of the graph's guess (pose of the new scan in the nearest
 // node's frame); null with the reason when no pose scores RGBD/ProximityCorrelativeMinScore.
 Transform correlativeGuess(const LaserScan& merged, const LaserScan& scan, const Transform& guess,
-                           const RtabmapOptions& o, std::string* why) {
+                           const RtabmapOptions& o, float window, std::string* why) {
   CorrelativeOptions c;
   c.resolution = o.proximityCorrelativeResolution;
-  c.linearWindow = o.proximityCorrelativeWindow;
+  c.linearWindow = window;
   c.angularWindow = o.proximityCorrelativeAngle * static_cast<float>(M_PI) / 180.0f;
   c.minScore = o.proximityCorrelativeMinScore;
   c.maxSecondPeakRatio = o.proximityCorrelativeMaxPeakRatio;
@@ -75,7 +77,50 @@ Transform correlativeGuess(const LaserScan& merged, const LaserScan& scan, const
   return Transform(r.pose.x(), r.pose.y(), 0.0f, 0.0f, 0.0f, r.pose.z());
 }
 
+// Graph path lengths from the new node far enough to reach the largest correlative window.
+std::map<int, double> pathLengthsForWindow(const memory::Memory& memory, int currentId, const RtabmapOptions& o,
+                                           const LinkRegistration& registration) {
+  const float drift = registration.correlativeDrift();
+  if (o.proximityCorrelativeWindow <= 0.0f || drift <= 0.0f) return {};
+  const double limit = std::max(0.0f, o.proximityCorrelativeWindow - registration.icpReach()) / drift;
+  return graphPathLengths(currentId, limit, [&memory](int id) -> const std::multimap<int, Link>* {
+    const Signature* s = memory.inRam(id) ? memory.signature(id) : nullptr;
+    return s ? &s->getLinks() : nullptr;
+  });
+}
+
 }  // namespace
+
+std::map<int, double> graphPathLengths(int root, double limit,
+                                       const std::function<const std::multimap<int, Link>*(int)>& linksOf) {
+  // Dijkstra; virtual links (path planning) measure nothing and do not count.
+  std::map<int, double> length{{root, 0.0}};
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  open.emplace(0.0, root);
+  while (!open.empty()) {
+    const auto [d, id] = open.top();
+    open.pop();
+    if (d > length[id]) continue;
+    const std::multimap<int, Link>* links = linksOf(id);
+    if (!links) continue;
+    for (const auto& [to, link] : *links) {
+      if (link.type() == Link::kVirtualClosure || link.transform().isNull() || to == id) continue;
+      const double next = d + link.transform().translation().norm();
+      if (next > limit) continue;
+      const auto it = length.find(to);
+      if (it != length.end() && it->second <= next) continue;
+      length[to] = next;
+      open.emplace(next, to);
+    }
+  }
+  return length;
+}
+
+float correlativeWindowFor(double pathLength, float window, float icpReach, float drift) {
+  if (drift <= 0.0f || !(pathLength < std::numeric_limits<double>::infinity())) return window;
+  return std::min(window, icpReach + drift * static_cast<float>(pathLength));
+}
 
 std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates) {
   std::vector<std::vector<int>> paths;
@@ -114,6 +159,8 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
   result.paths = static_cast<int>(paths.size());
   Signature* current = memory.mutableSignature(currentId);
   const double maxAngle = o.proximityAngle * M_PI / 180.0;
+  const bool correlative = o.proximityCorrelativeWindow > 0.0f;
+  const std::map<int, double> pathLengths = pathLengthsForWindow(memory, currentId, o, registration);
 
   for (const std::vector<int>& path : paths) {
     std::map<int, Transform> pathPoses;
@@ -124,9 +171,14 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     // back on it: farther, the overlap is partial and a link constrains little for its risk.
     // The correlative search of merged scans corrects drift up to its window, so it may look
     // that far.
-    const bool correlative = o.proximityCorrelativeWindow > 0.0f;
-    const double scanRadius = correlative ? std::max(o.proximityPathFilteringRadius, o.proximityCorrelativeWindow)
-                                          : o.proximityPathFilteringRadius;
+    float window = 0.0f;
+    if (correlative) {
+      const auto it = pathLengths.find(nearest);
+      window = correlativeWindowFor(it != pathLengths.end() ? it->second : std::numeric_limits<double>::infinity(),
+                                    o.proximityCorrelativeWindow, registration.icpReach(),
+                                    registration.correlativeDrift());
+    }
+    const double scanRadius = std::max(o.proximityPathFilteringRadius, window);
     if (distance > scanRadius) continue;
     const Transform guess = poses.at(currentId).inverse() * poses.at(nearest);  // current -> nearest
 
@@ -173,7 +225,7 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     Transform inv = guess.inverse();  // pose of the current node in the nearest node's frame
     if (correlative && merged.is2d() && scan.is2d()) {
       std::string why;
-      inv = correlativeGuess(merged, scan, inv, o, &why);
+      inv = correlativeGuess(merged, scan, inv, o, window, &why);
       if (inv.isNull()) {
         result.rejections.push_back("scan proximity " + std::to_string(currentId) + "->" + std::to_string(nearest) +
                                     ": " + why);

@@ -23,7 +23,14 @@
 //     within that window (not only RGBD/ProximityPathFilteringRadius) are tried by scans. A
 //     search whose best pose has a rival far from it scoring RGBD/ProximityCorrelativeMaxPeakRatio
 //     of its score (corridors, look-alike hubs) links nothing: a wrong link pulls the graph more
-//     than a missing one.
+//     than a missing one. The window of a path is also bounded by how wrong the graph can be
+//     there (RGBD/ProximityCorrelativeDrift): where the shortest chain of links between the new
+//     node and the path's nearest node is short (a place revisited moments ago, or reached
+//     through recent proximity links), the graph's guess is good to a few decimetres, and a pose
+//     metres away that scores better is a look-alike (the parallel corridor behind a wall, the
+//     next door), not drift. Unbounded, such matches tore the Intel map apart (issue 8): each
+//     link alone was weak enough to pass RGBD/OptimizeMaxError, together they bent the graph.
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -53,6 +60,16 @@ struct ProximityResult {
 ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, const std::map<int, Transform>& poses,
                                        const RtabmapOptions& options, const LinkRegistration& registration,
                                        bool covOffDiagIgnored);
+
+// Length (m, sum of the links' translations) of the shortest chain of links from `root` to each
+// node reachable within `limit` m. `linksOf(id)` gives a node's links (null: node unknown).
+std::map<int, double> graphPathLengths(int root, double limit,
+                                       const std::function<const std::multimap<int, Link>*(int)>& linksOf);
+
+// Correlative search window (m) for a path whose nearest node is `pathLength` m from the new
+// node along the graph (infinity when farther than any bound): ICP's reach plus the drift the
+// graph can have accumulated over that length, at most `window`. drift 0 = `window`.
+float correlativeWindowFor(double pathLength, float window, float icpReach, float drift);
 
 // Paths of step 2, for tests: candidate ids grouped by neighbour links, most recent first.
 std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates);
