@@ -9,9 +9,10 @@
 
 #include "rtabmap_conversions/LaserScanConversions.h"
 #include "rtabmap_conversions/PointCloudConversions.h"
-#include "rtabmap_conversions/TransformConversions.h"
+#include "TestHelpers.h"
 
 using namespace rtabmap_conversions;
+using rtabmap_conversions::test::setTransform;
 using rtabmap::Transform;
 
 namespace {
@@ -63,20 +64,12 @@ sensor_msgs::LaserScan sweepingScan() {
   return scan;
 }
 
-void addTf(tf2::BufferCore& buffer, const std::string& parent, const std::string& child, const Transform& t,
-           double stamp, bool isStatic) {
-  geometry_msgs::TransformStamped msg;
-  msg.header.frame_id = parent;
-  msg.header.stamp = ros::Time(stamp);
-  msg.child_frame_id = child;
-  msg.transform = transformToMsg(t);
-  buffer.setTransform(msg, "test", isStatic);
-}
-
 // Wheel odometry at 200 Hz around the sweep, and the lidar's mounting.
 void fillTf(tf2::BufferCore& buffer) {
-  addTf(buffer, "base_link", "laser", kMount, 0.0, true);
-  for (double t = kStamp - 0.5; t <= kStamp + 0.5; t += 0.005) addTf(buffer, "odom", "base_link", robotPose(t), t, false);
+  setTransform(buffer, "base_link", "laser", kMount, 0.0, true);
+  for (double t = kStamp - 0.5; t <= kStamp + 0.5; t += 0.005) {
+    setTransform(buffer, "odom", "base_link", robotPose(t), t, false);
+  }
 }
 
 // Largest distance of the cloud's points (laser frame at the stamp) from the room's walls.
@@ -150,7 +143,7 @@ TEST(Deskewing, DeskewedScanIsPlanarWithIntensities) {
 
 TEST(Deskewing, MissingTfNamesTheFrames) {
   tf2::BufferCore buffer;
-  addTf(buffer, "base_link", "laser", kMount, 0.0, true);
+  setTransform(buffer, "base_link", "laser", kMount, 0.0, true);
   std::string error;
   EXPECT_FALSE(SweepMotion::fromTf(buffer, "odom", "laser", ros::Time(kStamp), 0.0, kSweep, 0.0, &error));
   EXPECT_NE(error.find("odom"), std::string::npos) << error;

@@ -2,12 +2,26 @@
 // Small helpers shared by the conversion tests.
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <tf2/buffer_core.h>
 
 #include <cstring>
 #include <random>
 #include <string>
 
+#include "rtabmap_conversions/TransformConversions.h"
+
 namespace rtabmap_conversions::test {
+
+// Puts parent -> child = t at `stamp` (seconds) into a tf buffer, as a broadcaster would.
+inline void setTransform(tf2::BufferCore& buffer, const std::string& parent, const std::string& child,
+                         const rtabmap::Transform& t, double stamp, bool isStatic) {
+  geometry_msgs::TransformStamped msg;
+  msg.header.frame_id = parent;
+  msg.header.stamp = ros::Time(stamp);
+  msg.child_frame_id = child;
+  msg.transform = transformToMsg(t);
+  buffer.setTransform(msg, "test", isStatic);
+}
 
 // Bit-exact equality (NaN == NaN when their bits match), with size and type.
 inline ::testing::AssertionResult sameBits(const cv::Mat& a, const cv::Mat& b) {

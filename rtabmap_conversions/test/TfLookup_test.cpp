@@ -5,23 +5,14 @@
 #include <chrono>
 #include <thread>
 
-#include "rtabmap_conversions/TransformConversions.h"
+#include "TestHelpers.h"
 
 using namespace rtabmap_conversions;
+using rtabmap_conversions::test::setTransform;
 using rtabmap::Transform;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-void add(tf2::BufferCore& buffer, const std::string& parent, const std::string& child, const Transform& t,
-         double stamp, bool isStatic) {
-  geometry_msgs::TransformStamped msg;
-  msg.header.frame_id = parent;
-  msg.header.stamp = ros::Time(stamp);
-  msg.child_frame_id = child;
-  msg.transform = transformToMsg(t);
-  buffer.setTransform(msg, "test", isStatic);
-}
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -32,9 +23,9 @@ double secondsSince(Clock::time_point start) {
 TEST(TfLookup, FindsStaticAndTimedTransforms) {
   tf2::BufferCore buffer;
   const Transform laser(0.25, 0.0, 0.1, 0.0, 0.0, M_PI);
-  add(buffer, "base_link", "laser", laser, 0.0, true);
-  add(buffer, "odom", "base_link", Transform(0, 0, 0), 10.0, false);
-  add(buffer, "odom", "base_link", Transform(2, 0, 0), 12.0, false);
+  setTransform(buffer, "base_link", "laser", laser, 0.0, true);
+  setTransform(buffer, "odom", "base_link", Transform(0, 0, 0), 10.0, false);
+  setTransform(buffer, "odom", "base_link", Transform(2, 0, 0), 12.0, false);
   std::string error;
   Transform t = lookupTransform(buffer, "base_link", "laser", ros::Time(11.0), 0.0, &error);
   ASSERT_FALSE(t.isNull()) << error;
@@ -50,8 +41,8 @@ TEST(TfLookup, FindsStaticAndTimedTransforms) {
 
 TEST(TfLookup, MotionBetweenTwoStamps) {
   tf2::BufferCore buffer;
-  add(buffer, "odom", "base_link", Transform(1, 1, M_PI / 2), 10.0, false);
-  add(buffer, "odom", "base_link", Transform(1, 2, M_PI / 2), 11.0, false);
+  setTransform(buffer, "odom", "base_link", Transform(1, 1, M_PI / 2), 10.0, false);
+  setTransform(buffer, "odom", "base_link", Transform(1, 2, M_PI / 2), 11.0, false);
   std::string error;
   const Transform motion = lookupMotion(buffer, "odom", "base_link", ros::Time(10.0), ros::Time(11.0), 0.0, &error);
   ASSERT_FALSE(motion.isNull()) << error;
@@ -65,7 +56,7 @@ TEST(TfLookup, MotionBetweenTwoStamps) {
 
 TEST(TfLookup, MissingFramesAreNamedAndNothingThrows) {
   tf2::BufferCore buffer;
-  add(buffer, "base_link", "laser", Transform::Identity(), 0.0, true);
+  setTransform(buffer, "base_link", "laser", Transform::Identity(), 0.0, true);
   std::string error;
   const auto start = Clock::now();
   EXPECT_TRUE(lookupTransform(buffer, "base_link", "camera_link", ros::Time(5.0), 0.1, &error).isNull());
@@ -81,7 +72,7 @@ TEST(TfLookup, MissingFramesAreNamedAndNothingThrows) {
   EXPECT_NE(error.find("empty"), std::string::npos) << error;
 
   // Known frames that are not connected: tf's own explanation is passed on.
-  add(buffer, "odom", "base_footprint", Transform::Identity(), 5.0, false);
+  setTransform(buffer, "odom", "base_footprint", Transform::Identity(), 5.0, false);
   EXPECT_TRUE(lookupTransform(buffer, "laser", "base_footprint", ros::Time(5.0), 0.0, &error).isNull());
   EXPECT_NE(error.find("laser <- base_footprint"), std::string::npos) << error;
   EXPECT_GT(error.size(), 80u) << error;  // carries tf's message
@@ -89,8 +80,8 @@ TEST(TfLookup, MissingFramesAreNamedAndNothingThrows) {
 
 TEST(TfLookup, ExtrapolationIsReportedWithTfsReason) {
   tf2::BufferCore buffer;
-  add(buffer, "odom", "base_link", Transform(0, 0, 0), 10.0, false);
-  add(buffer, "odom", "base_link", Transform(1, 0, 0), 11.0, false);
+  setTransform(buffer, "odom", "base_link", Transform(0, 0, 0), 10.0, false);
+  setTransform(buffer, "odom", "base_link", Transform(1, 0, 0), 11.0, false);
   std::string error;
   EXPECT_TRUE(lookupTransform(buffer, "odom", "base_link", ros::Time(20.0), 0.0, &error).isNull());
   EXPECT_NE(error.find("xtrapolation"), std::string::npos) << error;
@@ -98,10 +89,10 @@ TEST(TfLookup, ExtrapolationIsReportedWithTfsReason) {
 
 TEST(TfLookup, WaitsForATransformThatArrivesLater) {
   tf2::BufferCore buffer;
-  add(buffer, "odom", "base_link", Transform(0, 0, 0), 10.0, false);
+  setTransform(buffer, "odom", "base_link", Transform(0, 0, 0), 10.0, false);
   std::thread publisher([&buffer] {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    add(buffer, "odom", "base_link", Transform(3, 0, 0), 12.0, false);
+    setTransform(buffer, "odom", "base_link", Transform(3, 0, 0), 12.0, false);
   });
   std::string error;
   const auto start = Clock::now();
