@@ -104,3 +104,15 @@ def angle(m):
 
 def lost(msg):
     return msg.pose.covariance[0] >= 9999.0
+
+
+def ate(estimate, truth):
+    """RMSE of the 2D positions after the rigid alignment (rotation + translation) that
+    minimises it (Umeyama without scale)."""
+    a, b = np.asarray(estimate, float), np.asarray(truth, float)
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    u, _, vt = np.linalg.svd((b - cb).T @ (a - ca))
+    d = np.diag([1.0, np.sign(np.linalg.det(u @ vt))])
+    r = u @ d @ vt
+    aligned = (r @ (a - ca).T).T + cb
+    return float(np.sqrt(np.mean(np.sum((aligned - b) ** 2, axis=1))))

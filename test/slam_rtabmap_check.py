@@ -27,18 +27,6 @@ import odom_common as common  # noqa: E402  (bag playing, temporary folders, wai
 PKG = "rtabmap_ros"
 
 
-def ate(estimate, truth):
-    """RMSE of the 2D positions after the rigid alignment (rotation + translation) that
-    minimises it (Umeyama without scale)."""
-    a, b = np.asarray(estimate, float), np.asarray(truth, float)
-    ca, cb = a.mean(axis=0), b.mean(axis=0)
-    u, _, vt = np.linalg.svd((b - cb).T @ (a - ca))
-    d = np.diag([1.0, np.sign(np.linalg.det(u @ vt))])
-    r = u @ d @ vt
-    aligned = (r @ (a - ca).T).T + cb
-    return float(np.sqrt(np.mean(np.sum((aligned - b) ** 2, axis=1))))
-
-
 class SlamRtabmapTest(unittest.TestCase):
     def setUp(self):
         self.info, self.graphs, self.grids = [], [], []
@@ -150,7 +138,7 @@ class SlamRtabmapTest(unittest.TestCase):
                 o = self.odom[s].pose.pose.position
                 odom.append((o.x, o.y))
         self.assertGreater(len(slam), 20, "too few nodes matched to ground-truth stamps")
-        ate_slam, ate_odom = ate(slam, truth), ate(odom, truth)
+        ate_slam, ate_odom = common.ate(slam, truth), common.ate(odom, truth)
         rospy.loginfo("ATE on %d nodes: SLAM %.3f m, wheel odometry %.3f m", len(slam), ate_slam, ate_odom)
         # The 180 s loop comes back to its start: loop closures undo most of the odometry drift
         # (offline, rtabmap-dataset --slam on the same data: 0.06 m against 0.86 m).

@@ -240,6 +240,9 @@ void RtabmapNodelet::stopCore() {
     NODELET_ERROR("%s: closing the database: %s", getName().c_str(), e.what());
   }
   core_.reset();
+  // The maps belong to the core's graph: without it they would stay latched (a failed restart
+  // on another database would keep showing the old map as if it were current).
+  maps_.clear();
 }
 
 void RtabmapNodelet::onData(const rtabmap_sync::SyncedData& d) {

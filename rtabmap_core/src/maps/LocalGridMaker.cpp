@@ -117,9 +117,14 @@ void cloudGrid(const SensorData& data, bool useDepth, bool useScan, const LocalG
   r.source = source.str();
   // A planar scan has no usable normals: with a depth image, its points join the obstacles after
   // segmentation instead of going through it.
+  // Otherwise (a 3D scan alone) the scan IS the cloud: moved, not copied, or its raw points
+  // would also join the obstacles below and make every floor voxel an obstacle.
   const bool scanAsObstacles = useDepth && useScan;
-  if (!scanAsObstacles) cloud.append(scanCloud);
-  r.stats.cloudPoints = static_cast<int>(cloud.size() + (scanAsObstacles ? scanCloud.size() : 0));
+  if (!scanAsObstacles) {
+    cloud.append(scanCloud);
+    scanCloud = Cloud();
+  }
+  r.stats.cloudPoints = static_cast<int>(cloud.size() + scanCloud.size());
 
   if (cloud.empty() && scanCloud.empty()) {
     std::ostringstream why;

@@ -171,3 +171,63 @@ TEST(LocalGridScan, ScanDecimationKeepsOneBeamInN) {
   rayTraceScan2D(scan, o, &s);
   EXPECT_EQ(s.beams, 25);
 }
+
+namespace {
+
+// A 16-ring lidar (+-15 deg, 1 deg azimuth steps) 0.75 m above the floor of a 20 x 16 m hall
+// with a 2.7 m ceiling, as a 3D LaserScan in the sensor frame with its base -> sensor mounting.
+LaserScan ringLidarInRoom() {
+  const double height = 0.75, ceiling = 2.7, halfX = 10.0, halfY = 8.0;
+  std::vector<cv::Vec3f> points;
+  for (int ring = 0; ring < 16; ++ring) {
+    const double elevation = (-15.0 + 2.0 * ring) * M_PI / 180.0;
+    for (int step = 0; step < 360; ++step) {
+      const double azimuth = step * M_PI / 180.0;
+      const Eigen::Vector3d d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                              std::sin(elevation));
+      double t = std::numeric_limits<double>::infinity();
+      if (d.z() < 0) t = std::min(t, -height / d.z());
+      if (d.z() > 0) t = std::min(t, (ceiling - height) / d.z());
+      if (d.x() != 0) t = std::min(t, halfX / std::abs(d.x()));
+      if (d.y() != 0) t = std::min(t, halfY / std::abs(d.y()));
+      const Eigen::Vector3d p = t * d;
+      points.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+    }
+  }
+  cv::Mat data(1, int(points.size()), CV_32FC3, points.data());
+  return LaserScan(data.clone(), int(points.size()), 0.0, 30.0, LaserScan::kXYZ, Transform(0, 0, height, 0, 0, 0));
+}
+
+// Heights (z) of a cell matrix (N cells of 3 floats).
+std::vector<float> heights(const cv::Mat& cells) {
+  std::vector<float> z;
+  const cv::Mat flat = cells.reshape(1, int(cells.total()));
+  for (int i = 0; i < flat.rows; ++i) z.push_back(flat.at<float>(i, 2));
+  return z;
+}
+
+}  // namespace
+
+TEST(LocalGridScan, Lidar3DFloorIsGroundAndEachPointIsSegmentedOnce) {
+  // A 3D scan alone goes through the cloud path: voxel filter, height crop, segmentation. Its
+  // points used to be appended to the obstacles a second time, raw, after the segmentation:
+  // every floor cell became an obstacle and the map had no free space.
+  LocalGridOptions o = scanOptions();
+  o.grid3D = true;
+  o.normalsSegmentation = false;
+  o.maxGroundHeight = 0.1f;
+  o.maxObstacleHeight = 2.0f;
+  const LocalGridResult r = createLocalGrid(SensorData(ringLidarInRoom()), o);
+  ASSERT_TRUE(r.success) << r.why;
+  EXPECT_EQ(r.source, "scan 3D");
+  EXPECT_EQ(r.stats.groundPoints + r.stats.obstaclePoints, r.stats.voxelPoints - r.stats.heightCropped);
+  const std::vector<float> ground = heights(r.grid.ground), obstacles = heights(r.grid.obstacles);
+  ASSERT_GT(ground.size(), 100u);  // the floor rings, in the base frame (z ~ 0)
+  ASSERT_GT(obstacles.size(), 100u);  // the walls between 0.1 and 2 m
+  for (float z : ground) EXPECT_LE(std::abs(z), 0.1f);
+  for (float z : obstacles) {
+    EXPECT_GT(z, 0.1f);
+    EXPECT_LE(z, 2.0f);  // the ceiling (2.7 m) was cropped
+  }
+  EXPECT_GT(r.stats.heightCropped, 0);
+}

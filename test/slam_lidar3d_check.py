@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Checks slam_lidar3d.test: 3D lidar SLAM end to end. icp_odometry follows the simulated
+VLP-16 with the wheel guess (few lost frames, ATE well below the wheel odometry's), and the
+rtabmap node on the same clouds builds a graph that closes the loop by proximity, an occupancy
+grid from the 3D local grids, and map -> icp_odom in tf."""
+import os
+import subprocess
+import sys
+import time
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from nav_msgs.msg import OccupancyGrid, Odometry
+
+from rtabmap_ros.msg import Info, MapGraph
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import odom_common as common  # noqa: E402  (bag conversion and playing, ATE)
+
+PKG = "rtabmap_ros"
+
+
+def by_stamp(store):
+    return lambda m: store.__setitem__(m.header.stamp.to_nsec(), m)
+
+
+class SlamLidar3dTest(unittest.TestCase):
+    def setUp(self):
+        self.odoms, self.info, self.graphs, self.grids = [], [], [], []
+        self.truth, self.wheel = {}, {}
+        rospy.Subscriber("/rtabmap/odom", Odometry, self.odoms.append, queue_size=1000)
+        rospy.Subscriber("/rtabmap/info", Info, self.info.append, queue_size=100)
+        rospy.Subscriber("/rtabmap/mapGraph", MapGraph, self.graphs.append, queue_size=10)
+        rospy.Subscriber("/rtabmap/grid_map", OccupancyGrid, self.grids.append, queue_size=10)
+        rospy.Subscriber("/ground_truth", Odometry, by_stamp(self.truth), queue_size=1000)
+        rospy.Subscriber("/odom", Odometry, by_stamp(self.wheel), queue_size=1000)
+        self.tf_buffer = tf2_ros.Buffer(rospy.Duration(600.0))
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+
+    def make_bag(self):
+        folder = common.workdir(self, "slam_lidar3d_")
+        sim, bag = os.path.join(folder, "sim"), os.path.join(folder, "lidar3d.bag")
+        r = subprocess.run(["rosrun", PKG, "rtabmap-sim", "--scenario", "loop", "--rate", "2", "--no-rgbd",
+                            "--no-urg", "--no-utm", "--lidar3d", "--output", sim],
+                           capture_output=True, text=True, timeout=240)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        common.convert(self, "sim", sim + "?scan=lidar", bag, "--no-imu")
+        return bag
+
+    def test_lidar3d_slam_on_simulated_loop(self):
+        bag = self.make_bag()
+        started = time.time()
+        common.play(self, bag, rospy.get_param("~rate", 2), timeout=240)
+        common.wait_quiet(self.info, quiet=3.0, timeout=60.0)
+        rospy.loginfo("bag played in %.1f s wall: %d odom, %d info, %d mapGraph, %d grid_map",
+                      time.time() - started, len(self.odoms), len(self.info), len(self.graphs), len(self.grids))
+        self.check_odometry()
+        self.check_graph()
+        self.check_grid()
+        self.assertTrue(self.tf_buffer.can_transform("map", "icp_odom", rospy.Time(0)), "no map -> icp_odom in tf")
+
+    def check_odometry(self):
+        clouds = len(self.truth)
+        self.assertGreater(clouds, 300, "the bag has too few frames")
+        self.assertGreaterEqual(len(self.odoms), 0.9 * clouds, f"{len(self.odoms)} odometry updates for {clouds} clouds")
+        lost = [m for m in self.odoms if common.lost(m)]
+        self.assertLessEqual(len(lost), 0.02 * len(self.odoms), f"{len(lost)} lost frames")
+        icp, truth, wheel = [], [], []
+        for m in self.odoms:
+            s = m.header.stamp.to_nsec()
+            if common.lost(m) or s not in self.truth or s not in self.wheel:
+                continue
+            self.assertEqual((m.header.frame_id, m.child_frame_id), ("icp_odom", "base_link"))
+            icp.append((m.pose.pose.position.x, m.pose.pose.position.y))
+            t, w = self.truth[s].pose.pose.position, self.wheel[s].pose.pose.position
+            truth.append((t.x, t.y))
+            wheel.append((w.x, w.y))
+        ate_icp, ate_wheel = common.ate(icp, truth), common.ate(wheel, truth)
+        rospy.loginfo("icp_odometry ATE %.3f m on %d frames (wheel odometry %.3f m)", ate_icp, len(icp), ate_wheel)
+        # Offline (rtabmap-dataset --odom s2m, same clouds and guess): 0.033 m.
+        self.assertLess(ate_icp, 0.15)
+        self.assertLess(ate_icp, 0.5 * ate_wheel)
+
+    def check_graph(self):
+        self.assertGreater(len(self.info), 20, "too few SLAM updates on info")
+        self.assertTrue(self.graphs, "no mapGraph")
+        graph = self.graphs[-1]
+        ids = set(graph.posesId)
+        self.assertGreater(len(ids), 20)
+        self.assertTrue(all(l.fromId in ids and l.toId in ids for l in graph.links), "link to an unknown node")
+        loops = [l for l in graph.links if l.type in (1, 2)]  # global loop closure, proximity in space
+        rospy.loginfo("mapGraph: %d nodes, %d links, %d loop closure / proximity", len(ids), len(graph.links),
+                      len(loops))
+        self.assertGreater(len(loops), 0, "the tour's end was not linked to its start")
+        # The optimised nodes against the ground truth at their stamps.
+        stamps = {i.refId: i.header.stamp.to_nsec() for i in self.info}
+        slam, truth = [], []
+        for node, pose in zip(graph.posesId, graph.poses):
+            s = stamps.get(node)
+            if s in self.truth:
+                slam.append((pose.position.x, pose.position.y))
+                t = self.truth[s].pose.pose.position
+                truth.append((t.x, t.y))
+        self.assertGreater(len(slam), 20, "too few nodes matched to ground-truth stamps")
+        ate_slam = common.ate(slam, truth)
+        rospy.loginfo("SLAM ATE %.3f m on %d nodes", ate_slam, len(slam))
+        self.assertLess(ate_slam, 0.15)
+
+    def check_grid(self):
+        self.assertTrue(self.grids, "no grid_map")
+        grid = self.grids[-1]
+        self.assertEqual(grid.header.frame_id, "map")
+        free = sum(1 for v in grid.data if v == 0)
+        occupied = sum(1 for v in grid.data if v == 100)
+        rospy.loginfo("grid_map %dx%d at %.2f m: %d free, %d occupied", grid.info.width, grid.info.height,
+                      grid.info.resolution, free, occupied)
+        # A 21-room building at 10 cm cells: thousands of free cells, walls as obstacles.
+        self.assertGreater(free, 2000)
+        self.assertGreater(occupied, 300)
+
+
+if __name__ == "__main__":
+    rospy.init_node("slam_lidar3d_check")
+    rostest.rosrun(PKG, "slam_lidar3d", SlamLidar3dTest, sys.argv)
