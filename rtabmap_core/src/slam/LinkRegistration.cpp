@@ -13,8 +13,7 @@
 namespace rtabmap {
 
 LinkRegistration::LinkRegistration(const ParametersMap& parameters)
-    : strategy_(Parameters::getInt(parameters, Parameters::kRegStrategy())),
-      correlativeDrift_(Parameters::getFloat(parameters, Parameters::kRGBDProximityCorrelativeDrift())) {
+    : strategy_(Parameters::getInt(parameters, Parameters::kRegStrategy())) {
   switch (strategy_) {
     case 0:
       visual_ = std::make_unique<RegistrationVis>(parameters);

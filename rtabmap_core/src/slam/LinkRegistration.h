@@ -34,9 +34,6 @@ class LinkRegistration {
   float minComplexity() const;
   // Icp/MaxCorrespondenceDistance: how far from its guess ICP can pull a scan (0 without ICP).
   float icpReach() const;
-  // RGBD/ProximityCorrelativeDrift. Read here because the proximity options struct is built
-  // elsewhere; it belongs with the other RGBD/ProximityCorrelative* options.
-  float correlativeDrift() const { return correlativeDrift_; }
 
   // Pose of `to`'s base in `from`'s base (to = from * T), null with info->rejectedMsg on
   // failure. `guess` null = none (ICP alone then refuses: it only refines a guess). The nodes'
@@ -47,7 +44,6 @@ class LinkRegistration {
 
  private:
   int strategy_;
-  float correlativeDrift_;
   std::unique_ptr<RegistrationVis> visual_;
   std::unique_ptr<IcpRegistration> icp_;
   std::unique_ptr<IcpVisualRegistration> visualIcp_;

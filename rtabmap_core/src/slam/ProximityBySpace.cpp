@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
 
 #include "LinkRegistration.h"
 #include "ScanMerge.h"
@@ -77,50 +76,18 @@ Transform correlativeGuess(const LaserScan& merged, const LaserScan& scan, const
   return Transform(r.pose.x(), r.pose.y(), 0.0f, 0.0f, 0.0f, r.pose.z());
 }
 
-// Graph path lengths from the new node far enough to reach the largest correlative window.
-std::map<int, double> pathLengthsForWindow(const memory::Memory& memory, int currentId, const RtabmapOptions& o,
-                                           const LinkRegistration& registration) {
-  const float drift = registration.correlativeDrift();
-  if (o.proximityCorrelativeWindow <= 0.0f || drift <= 0.0f) return {};
-  const double limit = std::max(0.0f, o.proximityCorrelativeWindow - registration.icpReach()) / drift;
-  return graphPathLengths(currentId, limit, [&memory](int id) -> const std::multimap<int, Link>* {
+// Position sigma, relative to the new node, of the nodes the graph knows well enough to narrow
+// the correlative window (the others get the whole window).
+std::map<int, double> sigmasForWindow(const memory::Memory& memory, int currentId, const RtabmapOptions& o) {
+  if (o.proximityCorrelativeWindow <= 0.0f || o.proximityCorrelativeSigmas <= 0.0f) return {};
+  const double limit = o.proximityCorrelativeWindow / o.proximityCorrelativeSigmas;
+  return graphPositionSigmas(currentId, limit, [&memory](int id) -> const std::multimap<int, Link>* {
     const Signature* s = memory.inRam(id) ? memory.signature(id) : nullptr;
     return s ? &s->getLinks() : nullptr;
   });
 }
 
 }  // namespace
-
-std::map<int, double> graphPathLengths(int root, double limit,
-                                       const std::function<const std::multimap<int, Link>*(int)>& linksOf) {
-  // Dijkstra; virtual links (path planning) measure nothing and do not count.
-  std::map<int, double> length{{root, 0.0}};
-  using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
-  open.emplace(0.0, root);
-  while (!open.empty()) {
-    const auto [d, id] = open.top();
-    open.pop();
-    if (d > length[id]) continue;
-    const std::multimap<int, Link>* links = linksOf(id);
-    if (!links) continue;
-    for (const auto& [to, link] : *links) {
-      if (link.type() == Link::kVirtualClosure || link.transform().isNull() || to == id) continue;
-      const double next = d + link.transform().translation().norm();
-      if (next > limit) continue;
-      const auto it = length.find(to);
-      if (it != length.end() && it->second <= next) continue;
-      length[to] = next;
-      open.emplace(next, to);
-    }
-  }
-  return length;
-}
-
-float correlativeWindowFor(double pathLength, float window, float icpReach, float drift) {
-  if (drift <= 0.0f || !(pathLength < std::numeric_limits<double>::infinity())) return window;
-  return std::min(window, icpReach + drift * static_cast<float>(pathLength));
-}
 
 std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates) {
   std::vector<std::vector<int>> paths;
@@ -160,7 +127,7 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
   Signature* current = memory.mutableSignature(currentId);
   const double maxAngle = o.proximityAngle * M_PI / 180.0;
   const bool correlative = o.proximityCorrelativeWindow > 0.0f;
-  const std::map<int, double> pathLengths = pathLengthsForWindow(memory, currentId, o, registration);
+  const std::map<int, double> sigmas = sigmasForWindow(memory, currentId, o);
 
   for (const std::vector<int>& path : paths) {
     std::map<int, Transform> pathPoses;
@@ -173,10 +140,10 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     // that far.
     float window = 0.0f;
     if (correlative) {
-      const auto it = pathLengths.find(nearest);
-      window = correlativeWindowFor(it != pathLengths.end() ? it->second : std::numeric_limits<double>::infinity(),
+      const auto it = sigmas.find(nearest);
+      window = correlativeWindowFor(it != sigmas.end() ? it->second : std::numeric_limits<double>::infinity(),
                                     o.proximityCorrelativeWindow, registration.icpReach(),
-                                    registration.correlativeDrift());
+                                    o.proximityCorrelativeSigmas);
     }
     const double scanRadius = std::max(o.proximityPathFilteringRadius, window);
     if (distance > scanRadius) continue;

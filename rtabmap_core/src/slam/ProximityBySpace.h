@@ -24,13 +24,15 @@
 //     search whose best pose has a rival far from it scoring RGBD/ProximityCorrelativeMaxPeakRatio
 //     of its score (corridors, look-alike hubs) links nothing: a wrong link pulls the graph more
 //     than a missing one. The window of a path is also bounded by how wrong the graph can be
-//     there (RGBD/ProximityCorrelativeDrift): where the shortest chain of links between the new
-//     node and the path's nearest node is short (a place revisited moments ago, or reached
-//     through recent proximity links), the graph's guess is good to a few decimetres, and a pose
-//     metres away that scores better is a look-alike (the parallel corridor behind a wall, the
-//     next door), not drift. Unbounded, such matches tore the Intel map apart (issue 8): each
-//     link alone was weak enough to pass RGBD/OptimizeMaxError, together they bent the graph.
-#include <functional>
+//     there (RGBD/ProximityCorrelativeSigmas standard deviations of the relative position of the
+//     new node and the path's nearest node, GraphUncertainty.h): through a chain of strong links
+//     (ICP-refined odometry, a place revisited moments ago) the graph's guess is good to a few
+//     decimetres, and a pose metres away that scores better is a look-alike (the parallel
+//     corridor behind a wall, the next door), not drift. Unbounded, such matches tore the Intel
+//     map apart (issue 8): each link alone was weak enough to pass RGBD/OptimizeMaxError,
+//     together they bent the graph. Bounded by the chain's length instead (a fixed drift per
+//     metre), a short chain through weak merged-scan links counted as certain and ACES lost its
+//     loop corrections: the chain's covariance widens the window exactly where it is weak.
 #include <map>
 #include <set>
 #include <string>
@@ -39,6 +41,7 @@
 #include "rtabmap_core/geometry/Transform.h"
 #include "rtabmap_core/memory/Link.h"
 #include "rtabmap_core/slam/RtabmapOptions.h"
+#include "GraphUncertainty.h"
 
 namespace rtabmap {
 
@@ -60,16 +63,6 @@ struct ProximityResult {
 ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, const std::map<int, Transform>& poses,
                                        const RtabmapOptions& options, const LinkRegistration& registration,
                                        bool covOffDiagIgnored);
-
-// Length (m, sum of the links' translations) of the shortest chain of links from `root` to each
-// node reachable within `limit` m. `linksOf(id)` gives a node's links (null: node unknown).
-std::map<int, double> graphPathLengths(int root, double limit,
-                                       const std::function<const std::multimap<int, Link>*(int)>& linksOf);
-
-// Correlative search window (m) for a path whose nearest node is `pathLength` m from the new
-// node along the graph (infinity when farther than any bound): ICP's reach plus the drift the
-// graph can have accumulated over that length, at most `window`. drift 0 = `window`.
-float correlativeWindowFor(double pathLength, float window, float icpReach, float drift);
 
 // Paths of step 2, for tests: candidate ids grouped by neighbour links, most recent first.
 std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates);

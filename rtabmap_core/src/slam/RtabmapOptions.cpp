@@ -42,6 +42,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.proximityCorrelativeMinScore = P::getFloat(p, P::kRGBDProximityCorrelativeMinScore());
   o.proximityCorrelativeResolution = P::getFloat(p, P::kRGBDProximityCorrelativeResolution());
   o.proximityCorrelativeMaxPeakRatio = P::getFloat(p, P::kRGBDProximityCorrelativeMaxPeakRatio());
+  o.proximityCorrelativeSigmas = P::getFloat(p, P::kRGBDProximityCorrelativeSigmas());
   o.optimizeMaxError = P::getFloat(p, P::kRGBDOptimizeMaxError());
   o.optimizeFromGraphEnd = P::getBool(p, P::kRGBDOptimizeFromGraphEnd());
   o.maxLoopClosureDistance = P::getFloat(p, P::kRGBDMaxLoopClosureDistance());
@@ -66,6 +67,15 @@ bool RtabmapOptions::IsValid(std::string* why) const {
     return fail("RGBD/ProximityPathMaxNeighbors, RGBD/ProximityMaxPaths and RGBD/ProximityMaxGraphDepth must be >= 0");
   }
   if (!(proximityMergedScanCovFactor > 0.0)) return fail(Parameters::kRGBDProximityMergedScanCovFactor() + " must be > 0");
+  if (!(proximityCorrelativeWindow >= 0.0f) || !(proximityCorrelativeSigmas >= 0.0f) ||
+      !(proximityCorrelativeResolution > 0.0f) || !(proximityCorrelativeAngle >= 0.0f)) {
+    return fail("RGBD/ProximityCorrelativeWindow, RGBD/ProximityCorrelativeSigmas and RGBD/ProximityCorrelativeAngle "
+                "must be >= 0, RGBD/ProximityCorrelativeResolution > 0");
+  }
+  if (!(proximityCorrelativeMinScore > 0.0f && proximityCorrelativeMinScore <= 1.0f) ||
+      !(proximityCorrelativeMaxPeakRatio > 0.0f && proximityCorrelativeMaxPeakRatio <= 1.0f)) {
+    return fail("RGBD/ProximityCorrelativeMinScore and RGBD/ProximityCorrelativeMaxPeakRatio must be in (0, 1]");
+  }
   if (!(optimizeMaxError >= 0.0f)) return fail(Parameters::kRGBDOptimizeMaxError() + " must be >= 0");
   if (!incremental && !metric) {
     return fail(Parameters::kMemIncrementalMemory() + " false (localization) needs " + Parameters::kRGBDEnabled() + " true");

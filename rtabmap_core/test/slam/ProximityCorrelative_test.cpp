@@ -1,17 +1,20 @@
-// The correlative search of proximity detection is bounded by how wrong the graph can be
-// (RGBD/ProximityCorrelativeDrift). Issue 8: on the Intel log, with the whole 3 m window, a
-// robot in one corridor was matched into the parallel corridor on the other side of a wall (the
-// other corridor's merged scans see the same doors and walls, shifted by the corridor's width),
-// although the graph linked the two places through a few metres of links and knew them apart.
-// Each such link was weak enough to pass RGBD/OptimizeMaxError; dozens of them tore the map.
+// The correlative search of proximity detection is bounded by what the graph knows
+// (RGBD/ProximityCorrelativeSigmas, GraphUncertainty.h). Issue 8: on the Intel log, with the
+// whole 3 m window, a robot in one corridor was matched into the parallel corridor on the other
+// side of a wall (the other corridor's merged scans see the same doors and walls, shifted by the
+// corridor's width), although strong links tied the two places through a few metres of graph.
+// Each such link was weak enough to pass RGBD/OptimizeMaxError; dozens of them tore the map. A
+// bound by chain length (a fixed drift per metre) stopped that but also stopped ACES's real
+// corrections, whose short chains went through weak merged-scan links.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <random>
 
-#include "../../src/slam/ProximityBySpace.h"
+#include "../../src/slam/GraphUncertainty.h"
 #include "rtabmap_core/registration/CorrelativeScanMatcher.h"
 
 namespace rtabmap {
@@ -79,9 +82,50 @@ CorrelativeOptions proximityOptions(float window) {
   return o;
 }
 
-constexpr float kWindow = 3.0f;     // RGBD/ProximityCorrelativeWindow of the runs
-constexpr float kIcpReach = 0.3f;   // Icp/MaxCorrespondenceDistance of config/lidar2d.ini
-constexpr float kDrift = 0.05f;     // RGBD/ProximityCorrelativeDrift default
+constexpr float kWindow = 3.0f;    // RGBD/ProximityCorrelativeWindow of the runs
+constexpr float kIcpReach = 0.3f;  // Icp/MaxCorrespondenceDistance of config/lidar2d.ini
+constexpr float kSigmas = 3.0f;    // RGBD/ProximityCorrelativeSigmas default
+
+// Link covariances measured on ACES (config/lidar2d.ini): ICP-refined odometry links of 0.3 m
+// have a median standard deviation of 0.07 m and 0.55 deg; merged-scan proximity links get
+// RGBD/ProximityMergedScanCovFactor (100) times an ICP covariance: 0.7 m and 5 deg.
+constexpr double kStrongSd = 0.07, kStrongYawSd = 0.55 * M_PI / 180.0;
+constexpr double kWeakSd = 0.7, kWeakYawSd = 5.0 * M_PI / 180.0;
+
+Link::InfMatrix informationOf(double sd, double yawSd) {
+  Link::InfMatrix inf = Link::InfMatrix::Identity() / (yawSd * yawSd);  // z, roll, pitch: as yaw
+  inf(0, 0) = inf(1, 1) = 1.0 / (sd * sd);
+  return inf;
+}
+
+Link linkOf(int from, int to, const Transform& t, double sd, double yawSd, Link::Type type = Link::kNeighbor) {
+  return Link(from, to, type, t, informationOf(sd, yawSd));
+}
+
+// A graph of links, both ways, as Memory keeps them.
+class Graph {
+ public:
+  void add(const Link& l) {
+    links_[l.from()].emplace(l.to(), l);
+    links_[l.to()].emplace(l.from(), l.inverse());
+  }
+  std::function<const std::multimap<int, Link>*(int)> linksOf() const {
+    return [this](int id) -> const std::multimap<int, Link>* {
+      const auto it = links_.find(id);
+      return it == links_.end() ? nullptr : &it->second;
+    };
+  }
+
+ private:
+  std::map<int, std::multimap<int, Link>> links_;
+};
+
+// The sigma of `to` relative to `from` in `graph`, infinity when not reached within 100 m.
+double sigmaBetween(const Graph& graph, int from, int to) {
+  const std::map<int, double> s = graphPositionSigmas(from, 100.0, graph.linksOf());
+  const auto it = s.find(to);
+  return it == s.end() ? std::numeric_limits<double>::infinity() : it->second;
+}
 
 TEST(ProximityCorrelative, TheParallelCorridorIsAFalseMatchTheAmbiguityTestLetsThrough) {
   // The robot is in corridor A; the path the graph puts nearest (2.2 m away) runs along B.
@@ -95,72 +139,112 @@ TEST(ProximityCorrelative, TheParallelCorridorIsAFalseMatchTheAmbiguityTestLetsT
   EXPECT_LT(whole.guessScore, 0.3f * whole.score);
 }
 
-TEST(ProximityCorrelative, WhereTheGraphIsCertainTheSearchCannotReachTheLookAlike) {
+TEST(ProximityCorrelative, StrongLinksBetweenTheTwinCorridorsRefuseTheLookAlike) {
   const Eigen::Vector3f robot(8.4f, 1.0f, 0.05f);
   const Points scan = scanFrom(corridorA(), robot, 8.0f, 1);
-  // Corridor B's path is 4 m from the robot along the graph (it came through the door a moment
-  // ago): the graph cannot be 2 m wrong there.
-  const float window = correlativeWindowFor(4.0, kWindow, kIcpReach, kDrift);
-  EXPECT_NEAR(window, 0.5f, 1e-5f);
+  // The robot left corridor B's path (node 1) through a door a moment ago: 5 m of ICP-refined
+  // odometry links (0.3 m each) to where it is now (node 18), turning through the door.
+  Graph g;
+  for (int i = 1; i < 18; ++i) g.add(linkOf(i, i + 1, Transform(0.3, 0.0, i == 8 || i == 12 ? 0.8 : 0.0), kStrongSd, kStrongYawSd));
+  const double sigma = sigmaBetween(g, 18, 1);
+  const float window = correlativeWindowFor(sigma, kWindow, kIcpReach, kSigmas);
+  EXPECT_LT(window, 1.5f) << "sigma " << sigma;
+  EXPECT_GE(window, kIcpReach);
   const CorrelativeResult r = matchCorrelative(corridorB(), scan, robot, proximityOptions(window));
   if (r.found) {
     EXPECT_LT((r.pose.head<2>() - robot.head<2>()).norm(), 0.6f) << "no link into corridor B";
   }
 }
 
-TEST(ProximityCorrelative, AfterALongLoopTheWholeWindowStillCorrectsDrift) {
-  // Back in corridor A after a 150 m loop: the graph's guess is 1.6 m off along the corridor
-  // and 0.4 m across, beyond ICP's reach; the search over the whole window finds the pose.
+TEST(ProximityCorrelative, ALoopClosedOnlyByWeakLinksStillGetsItsCorrection) {
+  // Back in corridor A; the graph reaches the path's nearest node (1) through 0.4 m of graph only,
+  // but through two merged-scan proximity links (node 2 on another path, then the new node 3):
+  // short, and weak. The graph's guess is 1.6 m off along the corridor and 0.4 m across. A bound
+  // by chain length (0.3 m + 0.05 m/m) would search 0.32 m and miss it; the covariance knows.
+  Graph g;
+  g.add(linkOf(1, 2, Transform(0.2, 0.0, 0.0), kWeakSd, kWeakYawSd, Link::kLocalSpaceClosure));
+  g.add(linkOf(2, 3, Transform(0.2, 0.0, 0.0), kWeakSd, kWeakYawSd, Link::kLocalSpaceClosure));
+  const float window = correlativeWindowFor(sigmaBetween(g, 3, 1), kWindow, kIcpReach, kSigmas);
+  EXPECT_GT(window, 2.5f) << "two weak links: a metre of sigma";
   const Eigen::Vector3f robot(8.4f, 1.0f, 0.05f);
   const Points scan = scanFrom(corridorA(), robot, 8.0f, 2);
   const Eigen::Vector3f guess = robot + Eigen::Vector3f(1.6f, -0.4f, 0.08f);
-  const float window = correlativeWindowFor(150.0, kWindow, kIcpReach, kDrift);
-  EXPECT_FLOAT_EQ(window, kWindow);
   const CorrelativeResult r = matchCorrelative(corridorA(), scan, guess, proximityOptions(window));
   ASSERT_TRUE(r.found) << r.why;
   EXPECT_LT((r.pose.head<2>() - robot.head<2>()).norm(), 0.15f);
 }
 
-TEST(ProximityCorrelative, WindowGrowsWithTheGraphPathFromIcpReachToTheWholeWindow) {
-  EXPECT_FLOAT_EQ(correlativeWindowFor(0.0, kWindow, kIcpReach, kDrift), kIcpReach);
-  EXPECT_FLOAT_EQ(correlativeWindowFor(20.0, kWindow, kIcpReach, kDrift), kIcpReach + 1.0f);
-  EXPECT_FLOAT_EQ(correlativeWindowFor(1000.0, kWindow, kIcpReach, kDrift), kWindow);
-  // Not reachable through the links in memory: nothing bounds the drift.
-  EXPECT_FLOAT_EQ(correlativeWindowFor(std::numeric_limits<double>::infinity(), kWindow, kIcpReach, kDrift), kWindow);
-  // Drift 0: the whole window always (the behaviour before the bound).
+TEST(ProximityCorrelative, ALongLoopOfStrongLinksWidensTheWindowToTheWhole) {
+  // 150 m of strong links around a loop: heading errors over such lever arms leave metres.
+  Graph g;
+  const int n = 500;
+  for (int i = 1; i < n; ++i) g.add(linkOf(i, i + 1, Transform(0.3, 0.0, 2.0 * M_PI / n), kStrongSd, kStrongYawSd));
+  EXPECT_FLOAT_EQ(correlativeWindowFor(sigmaBetween(g, n, 1), kWindow, kIcpReach, kSigmas), kWindow);
+}
+
+TEST(ProximityCorrelative, WindowIsSigmasStandardDeviationsBetweenIcpReachAndTheWholeWindow) {
+  EXPECT_FLOAT_EQ(correlativeWindowFor(0.0, kWindow, kIcpReach, kSigmas), kIcpReach);
+  EXPECT_FLOAT_EQ(correlativeWindowFor(0.2, kWindow, kIcpReach, kSigmas), 0.6f);
+  EXPECT_FLOAT_EQ(correlativeWindowFor(5.0, kWindow, kIcpReach, kSigmas), kWindow);
+  // Not reachable through the links in memory: nothing bounds the error.
+  EXPECT_FLOAT_EQ(correlativeWindowFor(std::numeric_limits<double>::infinity(), kWindow, kIcpReach, kSigmas), kWindow);
+  // Sigmas 0: the whole window always (the behaviour without the bound).
   EXPECT_FLOAT_EQ(correlativeWindowFor(0.0, kWindow, kIcpReach, 0.0f), kWindow);
 }
 
-Link linkOf(int from, int to, float metres, Link::Type type = Link::kNeighbor) {
-  return Link(from, to, type, Transform(metres, 0, 0, 0, 0, 0), Link::InfMatrix::Identity());
+TEST(ProximityCorrelative, ChainSigmaAddsTranslationVariancesInTheRootFrame) {
+  // Translation noise only (yaw almost exact): variances add; a link whose x is uncertain and y
+  // exact, after a 90 degree turn, is uncertain along the root's y.
+  Graph g;
+  const int n = 9;
+  for (int i = 1; i <= n; ++i) {
+    Link::InfMatrix inf = informationOf(0.1, 1e-6);
+    inf(1, 1) = 1e12;
+    g.add(Link(i, i + 1, Link::kNeighbor, Transform(1.0, 0.0, 0.0), inf));
+  }
+  EXPECT_NEAR(sigmaBetween(g, 1, n + 1), 0.1 * std::sqrt(double(n)), 1e-6);
+  Graph turned;
+  Link::InfMatrix inf = informationOf(0.1, 1e-6);
+  inf(1, 1) = 1e12;
+  turned.add(Link(1, 2, Link::kNeighbor, Transform(0.0, 0.0, M_PI / 2), informationOf(1e-6, 1e-6)));
+  turned.add(Link(2, 3, Link::kNeighbor, Transform(1.0, 0.0, 0.0), inf));
+  turned.add(Link(3, 4, Link::kNeighbor, Transform(1.0, 0.0, 0.0), inf));
+  EXPECT_NEAR(sigmaBetween(turned, 1, 4), 0.1 * std::sqrt(2.0), 1e-6);
 }
 
-TEST(ProximityCorrelative, GraphPathLengthsFollowTheShortestChainOfLinks) {
-  // A trajectory 1 -> 5 with 1 m steps; node 5 came back next to 1 (a 0.2 m proximity link);
-  // a virtual link of path planning 5 -> 3 measures nothing.
-  std::map<int, std::multimap<int, Link>> graph;
-  auto add = [&graph](const Link& l) {
-    graph[l.from()].emplace(l.to(), l);
-    graph[l.to()].emplace(l.from(), l.inverse());
-  };
-  for (int i = 1; i < 5; ++i) add(linkOf(i, i + 1, 1.0f));
-  add(linkOf(5, 1, 0.2f, Link::kLocalSpaceClosure));
-  add(linkOf(5, 3, 0.0f, Link::kVirtualClosure));
-  auto linksOf = [&graph](int id) -> const std::multimap<int, Link>* {
-    const auto it = graph.find(id);
-    return it == graph.end() ? nullptr : &it->second;
-  };
-  const std::map<int, double> all = graphPathLengths(5, 100.0, linksOf);
-  ASSERT_EQ(all.size(), 5u);
-  EXPECT_NEAR(all.at(5), 0.0, 1e-9);
-  EXPECT_NEAR(all.at(1), 0.2, 1e-6);
-  EXPECT_NEAR(all.at(2), 1.2, 1e-6);
-  EXPECT_NEAR(all.at(4), 1.0, 1e-6);
-  EXPECT_NEAR(all.at(3), 2.0, 1e-6) << "through 4, not the virtual link";
-  // Within 1.5 m only.
-  const std::map<int, double> near = graphPathLengths(5, 1.5, linksOf);
-  EXPECT_EQ(near.size(), 4u);
-  EXPECT_FALSE(near.count(3));
+TEST(ProximityCorrelative, ChainSigmaGrowsWithHeadingVarianceTimesLeverArmSquared) {
+  // Heading noise only, n straight links of length L: the heading error of link k moves the end
+  // by its distance to the end, so the variance is q L^2 (1^2 + ... + n^2) (Smith, Self &
+  // Cheeseman), not n q L^2.
+  Graph g;
+  const int n = 10;
+  const double L = 0.5, yawSd = 0.01;
+  for (int i = 1; i <= n; ++i) g.add(linkOf(i, i + 1, Transform(L, 0.0, 0.0), 1e-6, yawSd));
+  double sum = 0.0;
+  for (int m = 1; m < n; ++m) sum += double(m) * m;  // the last link's own heading moves nothing after it
+  EXPECT_NEAR(sigmaBetween(g, 1, n + 1), yawSd * L * std::sqrt(sum), 1e-4);
+  // From the other end, node 1 in node n+1's frame: it also moves with the whole heading error
+  // of node n+1, so each link's lever arm is one link longer: q L^2 (1^2 + ... + n^2).
+  EXPECT_NEAR(sigmaBetween(g, n + 1, 1), yawSd * L * std::sqrt(sum + double(n) * n), 1e-4);
+}
+
+TEST(ProximityCorrelative, ChainSigmaTakesTheLeastUncertainChainAndSkipsVirtualLinks) {
+  // 1 -> 2 -> 3 -> 4 strong (3 x 1 m); 4 -> 1 weak but short (a merged-scan proximity link);
+  // 4 -> 2 virtual (path planning): it measures nothing.
+  Graph g;
+  for (int i = 1; i < 4; ++i) g.add(linkOf(i, i + 1, Transform(1.0, 0.0, 0.0), kStrongSd, kStrongYawSd));
+  g.add(linkOf(4, 1, Transform(0.2, 0.0, 0.0), kWeakSd, kWeakYawSd, Link::kLocalSpaceClosure));
+  g.add(linkOf(4, 2, Transform(0.0, 0.0, 0.0), 1e-6, 1e-6, Link::kVirtualClosure));
+  const std::map<int, double> s = graphPositionSigmas(4, 100.0, g.linksOf());
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_NEAR(s.at(4), 0.0, 1e-9);
+  EXPECT_LT(s.at(1), kWeakSd) << "through the three strong links";
+  EXPECT_GT(s.at(1), s.at(2));
+  EXPECT_GT(s.at(2), s.at(3));
+  EXPECT_GT(s.at(2), kStrongSd * std::sqrt(2.0) - 1e-9) << "not through the virtual link";
+  // Within a sigma limit only.
+  const std::map<int, double> near = graphPositionSigmas(4, s.at(3) + 1e-6, g.linksOf());
+  EXPECT_EQ(near.size(), 2u);
 }
 
 }  // namespace

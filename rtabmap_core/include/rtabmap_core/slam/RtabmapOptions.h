@@ -45,6 +45,7 @@ struct RtabmapOptions {
   float proximityCorrelativeMinScore = 0.6f;    // RGBD/ProximityCorrelativeMinScore
   float proximityCorrelativeResolution = 0.1f;  // RGBD/ProximityCorrelativeResolution (m)
   float proximityCorrelativeMaxPeakRatio = 0.9f;  // RGBD/ProximityCorrelativeMaxPeakRatio (1 = off)
+  float proximityCorrelativeSigmas = 3.0f;      // RGBD/ProximityCorrelativeSigmas (0 = whole window)
   // Graph
   float optimizeMaxError = 3.0f;          // RGBD/OptimizeMaxError (standard deviations, 0 = off)
   bool optimizeFromGraphEnd = false;      // RGBD/OptimizeFromGraphEnd
