@@ -1,9 +1,13 @@
 // bench-maps_bench: how fast are the maps for navigation, and do they look right?
 //
-// Laser logs (../shared/data/radish: Intel lab, ACES), with poses from the lidar scan-to-map
-// odometry (Odometry::create with Reg/Strategy 1, Odom/Strategy 0, the wheel odometry as motion
-// guess; the raw wheel odometry when that fails or is not in the library), nodes taken as RTAB-Map does with
-// RGBD/LinearUpdate and AngularUpdate thresholds (chosen to give about 1,000 nodes on Intel):
+// Laser logs (../shared/data/radish: Intel lab, ACES), with the poses of the SLAM pipeline: the
+// log is mapped first by rtabmap-dataset --slam with config/lidar2d.ini (wheel odometry, ICP
+// neighbour refinement, proximity loop closures), each scan then taking its frames.tum pose (its
+// last node's optimised pose composed with the odometry since). --odometry-poses uses the lidar
+// scan-to-map odometry instead (Odometry::create with Reg/Strategy 1, Odom/Strategy 0, the wheel
+// odometry as motion guess; the raw wheel odometry when that fails or is not in the library), as
+// when rtabmap-dataset is not built. Nodes are taken as RTAB-Map does with RGBD/LinearUpdate and
+// AngularUpdate thresholds (chosen to give about 1,000 nodes on Intel):
 //  - local grid time per scan (2D ray tracing), bytes per node;
 //  - incremental global 2D update per node;
 //  - re-assembly after a loop closure (every node moved) and after a small correction (the last
@@ -17,7 +21,10 @@
 //    the 2D grid and the OctoMap projection.
 // Human-readable lines first, then one JSON line with every figure.
 //
-// Usage: bench-maps_bench [--out DIR] [--data DIR] [--max-scans N] [--wheel-odometry]
+// Usage: bench-maps_bench [--out DIR] [--data DIR] [--max-scans N] [--only intel|aces|7scenes]
+//                         [--odometry-poses [--wheel-odometry]] [--slam-dir DIR]
+//   --slam-dir DIR: take DIR/<log>/frames.tum of an earlier rtabmap-dataset --slam run instead
+//   of mapping the log again (default: map it into OUT/slam/<log>).
 #include <time.h>
 #include <unistd.h>
 
@@ -40,7 +47,9 @@
 
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
+#include "RunTool.h"
 #include "rtabmap_core/eval/DatasetReader.h"
+#include "rtabmap_core/eval/Trajectory.h"
 #include "rtabmap_core/maps/LocalGridMaker.h"
 #include "rtabmap_core/maps/MapIO.h"
 #include "rtabmap_core/maps/OccupancyGrid.h"
@@ -77,6 +86,10 @@ struct Settings {
   std::string data;
   int maxScans = 0;
   bool wheelOdometry = false;
+  bool odometryPoses = false;  // scan-matched (or wheel) odometry poses instead of SLAM's
+  std::string slamDir;         // an earlier SLAM run: slamDir/<log>/frames.tum
+  std::string only;            // intel, aces or 7scenes: that part alone
+  std::string argv0;
 };
 
 // Summary of a series of times (ms).
@@ -173,7 +186,7 @@ void saveGrid(const GridMap& m, const std::string& dir, const std::string& name,
 
 struct Frame {
   SensorData data;
-  Transform pose;  // corrected (lidar odometry) or wheel odometry
+  Transform pose;  // SLAM-optimised, lidar odometry or wheel odometry
 };
 
 struct LaserLog {
@@ -227,7 +240,77 @@ class ScanPoses {
   Transform pose_ = Transform::Identity();
 };
 
-LaserLog readLaserLog(const std::string& path, const Settings& s) {
+// The folder of the command-line tools: beside this executable (build/bin, or the folder the
+// build put it in), as argv[0] or /proc/self/exe says.
+std::string toolsDir(const Settings& s) {
+  std::vector<fs::path> dirs{fs::path(s.argv0).parent_path()};
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(exe.parent_path());
+  for (const fs::path& d : dirs) {
+    if (fs::exists(d / "rtabmap-dataset")) return fs::absolute(d).string();
+  }
+  return "";
+}
+
+// config/lidar2d.ini of the repository (or of the catkin workspace's source folder).
+std::string lidar2dConfig(const std::string& tools) {
+  std::vector<fs::path> starts = startFolders();
+  if (!tools.empty()) starts.push_back(tools);
+  const std::string found = findUp(starts, [](const fs::path& p) {
+    return fs::exists(p / "config" / "lidar2d.ini") || fs::exists(p / "src" / "rtabmap_ros" / "config" / "lidar2d.ini");
+  });
+  if (found.empty()) return "";
+  const fs::path direct = fs::path(found) / "config" / "lidar2d.ini";
+  return (fs::exists(direct) ? direct : fs::path(found) / "src" / "rtabmap_ros" / "config" / "lidar2d.ini").string();
+}
+
+// The optimised pose of every scan of a log, from the SLAM pipeline: rtabmap-dataset --slam with
+// the 2D lidar configuration (or an earlier run's frames.tum with --slam-dir). Empty, with the
+// reason in `source`, when the tool or the configuration is missing or the run fails.
+struct SlamPoses {
+  Trajectory frames;
+  std::string source;
+  Json summary;
+  double seconds = 0.0;
+};
+
+SlamPoses slamPoses(const std::string& name, const std::string& clf, const Settings& s, const std::string& out) {
+  SlamPoses r;
+  fs::path dir;
+  try {
+    if (!s.slamDir.empty()) {
+      dir = fs::path(s.slamDir) / name;
+      r.source = "SLAM poses (optimised, every scan) read from " + (dir / "frames.tum").string();
+    } else {
+      const std::string tools = toolsDir(s), config = lidar2dConfig(tools);
+      if (tools.empty() || config.empty()) {
+        r.source = tools.empty() ? "rtabmap-dataset not found beside the bench" : "config/lidar2d.ini not found";
+        return r;
+      }
+      dir = fs::path(out) / "slam" / name;
+      std::string args = "--format carmen --odom wheel --slam --output " + dir.string() + " --config " + config;
+      if (s.maxScans > 0) args += " --max-frames " + std::to_string(s.maxScans);
+      const Clock::time_point t0 = Clock::now();
+      r.summary = bench::runToolJson(tools, "rtabmap-dataset", args + " " + clf);
+      r.seconds = msSince(t0) / 1000.0;
+      r.source = "SLAM poses (rtabmap-dataset --slam, " + fs::path(config).filename().string() + ", " +
+                 std::to_string(r.summary.value("nodes", 0)) + " SLAM nodes, " +
+                 std::to_string(r.summary.value("proximity_links", 0)) + " proximity links, mapped in " +
+                 std::to_string(static_cast<int>(r.seconds)) + " s)";
+    }
+    r.frames = readTrajectory((dir / "frames.tum").string(), TrajectoryFormat::kTum);
+    r.frames.sortByStamp();
+  } catch (const std::exception& e) {
+    r.frames = Trajectory();
+    r.source = std::string("SLAM run failed: ") + e.what();
+  }
+  return r;
+}
+
+// The scans of a log with their poses: the SLAM trajectory's (scans it has no pose for are left
+// out) when `slam` is not empty, else the scan-matched odometry's.
+LaserLog readLaserLog(const std::string& path, const Settings& s, const Trajectory& slam) {
   LaserLog log;
   DatasetReaderOptions ro;
   ro.images = false;
@@ -235,14 +318,24 @@ LaserLog readLaserLog(const std::string& path, const Settings& s) {
   ro.imu = false;
   ro.maxFrames = s.maxScans;
   std::unique_ptr<DatasetReader> reader = openDatasetReader("carmen", path, ro);
-  ScanPoses poses(s.wheelOdometry, &log.poseSource);
+  std::unique_ptr<ScanPoses> poses;
+  if (slam.empty()) poses = std::make_unique<ScanPoses>(s.wheelOdometry, &log.poseSource);
   DatasetRecord rec;
   while (reader->next(rec)) {
     if (rec.kind != DatasetRecord::Kind::kFrame || rec.data.laserScanRaw().empty()) continue;
+    if (!poses) {
+      const long i = slam.nearest(rec.data.stamp(), 1e-4);
+      if (i < 0 || slam[static_cast<size_t>(i)].pose.isNull()) {
+        ++log.lost;
+        continue;
+      }
+      log.frames.push_back({rec.data, slam[static_cast<size_t>(i)].pose});
+      continue;
+    }
     SensorData d = rec.data;
     double ms = 0.0;
     bool lost = false;
-    const Transform pose = poses.next(d, &ms, &lost);
+    const Transform pose = poses->next(d, &ms, &lost);
     if (ms >= 0.0) log.odometryMs.add(ms);
     if (lost) ++log.lost;
     log.frames.push_back({rec.data, pose});
@@ -311,10 +404,21 @@ Json benchLaser(const std::string& name, const std::string& path, const Settings
                 size_t targetNodes) {
   Json j;
   std::printf("%s (%s)\n", name.c_str(), path.c_str());
+  SlamPoses slam;
+  if (!s.odometryPoses) {
+    std::printf("  mapping with the SLAM pipeline for its poses...\n");
+    std::fflush(stdout);
+    slam = slamPoses(name, path, s, out);
+    if (slam.frames.empty()) std::printf("  no SLAM poses (%s): odometry poses\n", slam.source.c_str());
+    if (!slam.summary.is_null()) j["slam"] = slam.summary;
+    j["slam_seconds"] = slam.seconds;
+  }
   const Clock::time_point t0 = Clock::now();
-  const LaserLog log = readLaserLog(path, s);
+  LaserLog log = readLaserLog(path, s, slam.frames);
+  if (!slam.frames.empty()) log.poseSource = slam.source;
   std::printf("  %zu scans read in %.1f s; poses: %s", log.frames.size(), msSince(t0) / 1000.0, log.poseSource.c_str());
   if (!log.odometryMs.v.empty()) std::printf(" (%.1f ms/scan, %d lost)", log.odometryMs.mean(), log.lost);
+  else if (log.lost > 0) std::printf(" (%d scans without a pose left out)", log.lost);
   std::printf("\n");
   j["scans"] = log.frames.size();
   j["pose_source"] = log.poseSource;
@@ -404,8 +508,12 @@ Json benchLaser(const std::string& name, const std::string& path, const Settings
 // ------------------------------------------------------------------------------ 7-Scenes
 
 // One OctoMap built node after node (one update per node, as the SLAM loop does), then rebuilt
-// after a loop closure. Points = occupied voxels inserted (each the end of one ray when the
-// OctoMap casts them). CPU times are the process's: the ray casting may use a second thread.
+// after a loop closure. Points = the occupied voxels inserted: each node's ground and obstacle
+// cells (its 3D local grid, already voxel filtered at Grid/CellSize from the decimated depth
+// image), moved to the world and counted once per map voxel of the node; each is the end of a
+// ray the OctoMap casts (rays = cells, a little more than points when two cells of a node fall
+// in one world voxel). Free updates = voxels the rays crossed, once per node. CPU times are the
+// process's: the ray casting may use a second thread.
 struct OctoMapRun {
   std::shared_ptr<OctoMap> map;
   long points = 0, free = 0, rays = 0;
@@ -567,6 +675,7 @@ Json benchDepth(const std::string& path, const std::string& out) {
 
 Settings parse(int argc, char** argv) {
   Settings s;
+  s.argv0 = argv[0];
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -580,8 +689,13 @@ Settings parse(int argc, char** argv) {
     else if (a == "--data") s.data = value();
     else if (a == "--max-scans") s.maxScans = std::stoi(value());
     else if (a == "--wheel-odometry") s.wheelOdometry = true;
+    else if (a == "--only") s.only = value();
+    else if (a == "--odometry-poses") s.odometryPoses = true;
+    else if (a == "--slam-dir") s.slamDir = value();
     else {
-      std::fprintf(stderr, "usage: bench-maps_bench [--out DIR] [--data DIR] [--max-scans N] [--wheel-odometry]\n");
+      std::fprintf(stderr,
+                   "usage: bench-maps_bench [--out DIR] [--data DIR] [--max-scans N] [--only intel|aces|7scenes]\n"
+                   "                        [--odometry-poses [--wheel-odometry]] [--slam-dir DIR]\n");
       std::exit(a == "--help" || a == "-h" ? 0 : 2);
     }
   }
@@ -603,6 +717,7 @@ int main(int argc, char** argv) {
     const std::vector<std::tuple<std::string, std::string, size_t>> logs = {
         {"intel", "radish/intel.clf.bz2", 1000}, {"aces", "radish/aces.clf.bz2", 1000}};
     for (const auto& [name, file, target] : logs) {
+      if (!s.only.empty() && s.only != name) continue;
       const fs::path p = fs::path(data) / file;
       if (data.empty() || !fs::exists(p)) {
         std::printf("%s: skipped (%s not found)\n", name.c_str(), p.string().c_str());
@@ -611,7 +726,8 @@ int main(int argc, char** argv) {
       j[name] = benchLaser(name, p.string(), s, out, target);
     }
     const fs::path scenes = fs::path(data) / "rgbd_7scenes";
-    if (!data.empty() && fs::is_directory(scenes)) j["7scenes"] = benchDepth(scenes.string(), out);
+    if (!s.only.empty() && s.only != "7scenes") {
+    } else if (!data.empty() && fs::is_directory(scenes)) j["7scenes"] = benchDepth(scenes.string(), out);
     else std::printf("7-Scenes: skipped (%s not found)\n", scenes.string().c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench-maps_bench: error: %s\n", e.what());

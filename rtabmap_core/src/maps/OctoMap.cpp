@@ -64,7 +64,8 @@ class OctoMap::Impl {
   maps_detail::OctreeBatch batch;
   // Buffers reused between nodes.
   std::vector<maps_detail::VoxelUpdate> updates;
-  std::vector<octomap::OcTreeKey> occupied, free;
+  std::vector<octomap::OcTreeKey> occupied, free, keys;
+  maps_detail::VoxelBitset emptyBits;
   std::vector<octomap::point3d> ends;
   bool colored = false;
 
@@ -80,6 +81,35 @@ class OctoMap::Impl {
   }
 
   unsigned depthOf(int depth) const { return depth <= 0 ? unsigned(o.treeDepth) : unsigned(std::min(depth, 16)); }
+
+  // The keys of a node's empty voxels, deduplicated and in Morton code order into `free` through
+  // a bitset over their box, or as updates to sort when the box is too large.
+  void emptyVoxels(const std::vector<cv::Point3f>& empty, const Eigen::Isometry3f& t) {
+    keys.clear();
+    octomap::OcTreeKey lo, hi;
+    for (const cv::Point3f& p : empty) {
+      const Eigen::Vector3f w = t * Eigen::Vector3f(p.x, p.y, p.z);
+      octomap::OcTreeKey k;
+      if (!tree->coordToKeyChecked(octomap::point3d(w.x(), w.y(), w.z()), k)) continue;
+      if (keys.empty()) lo = hi = k;
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], k[a]);
+        hi[a] = std::max(hi[a], k[a]);
+      }
+      keys.push_back(k);
+    }
+    if (keys.empty()) return;
+    if (emptyBits.reset(lo, hi)) {
+      for (const octomap::OcTreeKey& k : keys) emptyBits.set(k);
+      maps_detail::VoxelBitset::collect(emptyBits, nullptr, nullptr, free);
+      return;
+    }
+    for (const octomap::OcTreeKey& k : keys) {
+      maps_detail::VoxelUpdate u;
+      u.key = k;
+      updates.push_back(u);
+    }
+  }
 
   // One node: its free space first, then its occupied voxels, each voxel updated once (lazily:
   // the inner nodes are updated once per batch).
@@ -112,22 +142,13 @@ class OctoMap::Impl {
 
     free.clear();
     if (!n.empty.empty()) {
-      for (const cv::Point3f& p : n.empty) {
-        const Eigen::Vector3f w = t * Eigen::Vector3f(p.x, p.y, p.z);
-        octomap::OcTreeKey k;
-        if (tree->coordToKeyChecked(octomap::point3d(w.x(), w.y(), w.z()), k)) free.push_back(k);
-      }
+      emptyVoxels(n.empty, t);
     } else if (o.rayTracing) {
       const Eigen::Vector3f v = t * n.viewPoint;
       s.rayTracedPoints += static_cast<long>(
           caster.cast(*tree, octomap::point3d(v.x(), v.y(), v.z()), ends, occupied, o.rangeMax, free));
     }
-    for (const octomap::OcTreeKey& k : free) {
-      maps_detail::VoxelUpdate u;
-      u.key = k;
-      updates.push_back(u);
-    }
-    batch.apply(*tree, updates, tree->getProbHitLog(), tree->getProbMissLog());
+    batch.apply(*tree, updates, free, tree->getProbHitLog(), tree->getProbMissLog());
     long points = 0, freeUpdates = 0;
     for (const maps_detail::VoxelUpdate& u : updates) {
       if (u.kind == maps_detail::VoxelUpdate::kFree) {

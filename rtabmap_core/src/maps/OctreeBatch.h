@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "VoxelBitset.h"
+
 namespace rtabmap::maps_detail {
 
 struct VoxelUpdate {
@@ -27,30 +29,17 @@ struct VoxelUpdate {
   uint8_t r = 0, g = 0, b = 0;
 };
 
-// The 16 bits of v spread to every third bit (bit i -> bit 3i).
-inline uint64_t spreadBits3(uint64_t v) {
-  v &= 0xFFFFull;
-  v = (v | (v << 16)) & 0x0000FF0000FFull;
-  v = (v | (v << 8)) & 0x00F00F00F00Full;
-  v = (v | (v << 4)) & 0x0C30C30C30C3ull;
-  v = (v | (v << 2)) & 0x249249249249ull;
-  return v;
-}
-
-// Morton code of a key: 3 bits per level, root level first; each 3-bit group is the child index
-// OcTree uses at that level (bit 0 from x, 1 from y, 2 from z).
-inline uint64_t mortonCode(const octomap::OcTreeKey& k) {
-  return spreadBits3(k[0]) | (spreadBits3(k[1]) << 1) | (spreadBits3(k[2]) << 2);
-}
-
 class OctreeBatch {
  public:
   // Applies one node's updates: hit for obstacle and ground voxels, miss for free ones, each
   // voxel once, the strongest kind winning (obstacle, then ground, then free: a voxel this node
   // saw occupied is not freed by its own rays), the first update of that kind in `updates`
-  // giving the colour. Leaves `updates` sorted and without duplicates. The buffers are kept
-  // between calls.
-  void apply(octomap::ColorOcTree& tree, std::vector<VoxelUpdate>& updates, float hit, float miss);
+  // giving the colour. `sortedFree`: more free voxels, already in increasing Morton code and
+  // without duplicates (a VoxelBitset's keys: the 20,000 free voxels of a frame need no sort).
+  // Leaves `updates` sorted, merged with `sortedFree` and without duplicates. The buffers are
+  // kept between calls.
+  void apply(octomap::ColorOcTree& tree, std::vector<VoxelUpdate>& updates,
+             const std::vector<octomap::OcTreeKey>& sortedFree, float hit, float miss);
 
  private:
   struct SortItem {
@@ -58,6 +47,7 @@ class OctreeBatch {
     uint32_t index;
   };
   void sortByVoxel(std::vector<VoxelUpdate>& updates);
+  void mergeFree(std::vector<VoxelUpdate>& updates, const std::vector<octomap::OcTreeKey>& sortedFree);
   void descend(octomap::ColorOcTreeNode* node, unsigned depth, bool created, VoxelUpdate* begin, VoxelUpdate* end);
 
   octomap::ColorOcTree* tree_ = nullptr;
@@ -68,12 +58,14 @@ class OctreeBatch {
   std::vector<VoxelUpdate> sorted_;
 };
 
-inline void OctreeBatch::apply(octomap::ColorOcTree& tree, std::vector<VoxelUpdate>& updates, float hit, float miss) {
-  if (updates.empty()) return;
+inline void OctreeBatch::apply(octomap::ColorOcTree& tree, std::vector<VoxelUpdate>& updates,
+                               const std::vector<octomap::OcTreeKey>& sortedFree, float hit, float miss) {
+  if (updates.empty() && sortedFree.empty()) return;
   tree_ = &tree;
   hit_ = hit;
   miss_ = miss;
-  sortByVoxel(updates);
+  if (!updates.empty()) sortByVoxel(updates);
+  mergeFree(updates, sortedFree);
   colors_ = false;
   for (const VoxelUpdate& u : updates) colors_ = colors_ || u.hasColor;
   if (!tree.getRoot()) {
@@ -120,6 +112,25 @@ inline void OctreeBatch::sortByVoxel(std::vector<VoxelUpdate>& updates) {
     const VoxelUpdate& u = updates[it.index];
     if (sorted_.empty() || sorted_.back().morton != u.morton) sorted_.push_back(u);
   }
+  updates.swap(sorted_);
+}
+
+// Both lists are sorted: one merge. A voxel in both keeps the update of `updates` (its kind is
+// at least as strong as free).
+inline void OctreeBatch::mergeFree(std::vector<VoxelUpdate>& updates, const std::vector<octomap::OcTreeKey>& sortedFree) {
+  if (sortedFree.empty()) return;
+  sorted_.clear();
+  sorted_.reserve(updates.size() + sortedFree.size());
+  auto a = updates.begin();
+  for (const octomap::OcTreeKey& k : sortedFree) {
+    VoxelUpdate f;
+    f.key = k;
+    f.morton = mortonCode(k);
+    while (a != updates.end() && a->morton < f.morton) sorted_.push_back(*a++);
+    if (a != updates.end() && a->morton == f.morton) continue;
+    sorted_.push_back(f);
+  }
+  sorted_.insert(sorted_.end(), a, updates.end());
   updates.swap(sorted_);
 }
 

@@ -6,12 +6,13 @@
 //
 // Each voxel must come out once per grid (OctoMap's insertPointCloud does the same with a hash
 // set). Rays from one view point overlap heavily near it, and a hash set insert per ray step
-// costs more than the step: when the rays' bounding box is small enough, a dense box of stamps
-// (one uint32 per voxel, reused between calls) replaces the hash set.
+// costs more than the step: when the rays' bounding box is small enough, each ray step sets a
+// bit of a VoxelBitset instead, and the set is read back once, in Morton code order (the order
+// the octree update needs). Larger boxes (and the rare step just outside the box) go through a
+// hash set, sorted afterwards.
 //
 // Many rays are cast on two threads (computeRayKeys only reads the tree): the second half of the
-// rays on a worker with its own visited set, then its voxels not already seen by the first half
-// are appended in its order. That is exactly the serial output, same keys in the same order.
+// rays on a worker with its own bitset; the union of both is the serial result.
 #include <octomap/OcTreeKey.h>
 #include <octomap/octomap_types.h>
 
@@ -22,62 +23,9 @@
 #include <thread>
 #include <vector>
 
+#include "VoxelBitset.h"
+
 namespace rtabmap::maps_detail {
-
-// Voxels already seen during one cast: dense stamps over the rays' bounding box, or a hash set
-// when the box is too large.
-class VisitedVoxels {
- public:
-  // Boxes up to this many voxels use stamps (64 M voxels = 256 MB at most; a 7-Scenes or
-  // Kinect frame needs well under 1 M).
-  static constexpr size_t kMaxBoxVoxels = size_t(64) << 20;
-
-  void begin(const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi) {
-    lo_ = lo;
-    nx_ = size_t(hi[0] - lo[0]) + 1;
-    ny_ = size_t(hi[1] - lo[1]) + 1;
-    nz_ = size_t(hi[2] - lo[2]) + 1;
-    const size_t n = nx_ * ny_ * nz_;
-    dense_ = n <= kMaxBoxVoxels;
-    if (!dense_) {
-      hashed_.clear();
-      return;
-    }
-    if (stamps_.size() < n) {
-      stamps_.assign(n, 0u);
-      stamp_ = 0;
-    }
-    if (++stamp_ == 0) {  // wrapped: forget every old stamp
-      std::fill(stamps_.begin(), stamps_.end(), 0u);
-      stamp_ = 1;
-    }
-  }
-  // Marks k (which may lie outside the box: it then can never be visited). True if it was new.
-  bool insert(const octomap::OcTreeKey& k) {
-    if (!dense_) return hashed_.insert(k).second;
-    if (!inBox(k)) return true;
-    uint32_t& s = stamps_[index(k)];
-    if (s == stamp_) return false;
-    s = stamp_;
-    return true;
-  }
-
- private:
-  bool inBox(const octomap::OcTreeKey& k) const {
-    return k[0] >= lo_[0] && k[1] >= lo_[1] && k[2] >= lo_[2] && size_t(k[0] - lo_[0]) < nx_ &&
-           size_t(k[1] - lo_[1]) < ny_ && size_t(k[2] - lo_[2]) < nz_;
-  }
-  size_t index(const octomap::OcTreeKey& k) const {
-    return (size_t(k[0] - lo_[0]) * ny_ + size_t(k[1] - lo_[1])) * nz_ + size_t(k[2] - lo_[2]);
-  }
-
-  bool dense_ = true;
-  std::vector<uint32_t> stamps_;
-  uint32_t stamp_ = 0;
-  octomap::OcTreeKey lo_;
-  size_t nx_ = 0, ny_ = 0, nz_ = 0;
-  octomap::KeySet hashed_;
-};
 
 class RayCaster {
  public:
@@ -85,8 +33,9 @@ class RayCaster {
   static constexpr size_t kMinRaysPerThread = 512;
 
   // Appends to `free` the keys crossed by the rays origin -> ends[i] (excluding the end voxels and
-  // every voxel listed in `occupied`). Rays longer than maxRange (> 0) are truncated, and then
-  // include their last voxel (nothing was hit there). Returns the number of rays cast.
+  // every voxel listed in `occupied`), each once, in increasing Morton code. Rays longer than
+  // maxRange (> 0) are truncated, and then include their last voxel (nothing was hit there).
+  // Returns the number of rays cast.
   template <class Tree>
   size_t cast(const Tree& tree, const octomap::point3d& origin, const std::vector<octomap::point3d>& ends,
               const std::vector<octomap::OcTreeKey>& occupied, float maxRange,
@@ -96,60 +45,81 @@ class RayCaster {
     hi = lo;
     prepareTargets(tree, origin, ends, maxRange, lo, hi);
     const size_t n = targets_.size();
+    const bool dense = main_.bits.reset(lo, hi);
+    main_.outside.clear();
     static const bool twoCores = std::thread::hardware_concurrency() > 1;
     const size_t split = n >= 2 * kMinRaysPerThread && twoCores ? n / 2 : n;
-    main_.begin(lo, hi);
-    for (const octomap::OcTreeKey& k : occupied) main_.insert(k);
-    if (split < n) {
-      // The second half on a worker; it excludes the occupied voxels too, and the first half's
-      // voxels are removed from its output when merging.
+    bool merged = false;
+    if (split < n && dense) {
       std::thread worker;
       std::exception_ptr workerFailure;
       try {
         worker = std::thread([&] {
           try {
-            worker_.visited.begin(lo, hi);
-            for (const octomap::OcTreeKey& k : occupied) worker_.visited.insert(k);
-            worker_.free.clear();
-            castRange(tree, origin, split, n, worker_, worker_.free);
+            worker_.bits.reset(lo, hi);
+            worker_.outside.clear();
+            castRange(tree, origin, split, n, true, worker_);
           } catch (...) {
             workerFailure = std::current_exception();
           }
         });
       } catch (const std::system_error&) {  // no thread available: all on this one
-        castRange(tree, origin, 0, n, mainState(), free);
-        return n;
+        worker = std::thread();
       }
-      try {
-        castRange(tree, origin, 0, split, mainState(), free);
-      } catch (...) {
+      if (worker.joinable()) {
+        try {
+          castRange(tree, origin, 0, split, true, main_);
+        } catch (...) {
+          worker.join();
+          throw;
+        }
         worker.join();
-        throw;
+        if (workerFailure) std::rethrow_exception(workerFailure);
+        merged = true;
       }
-      worker.join();
-      if (workerFailure) std::rethrow_exception(workerFailure);
-      for (const octomap::OcTreeKey& k : worker_.free) {
-        if (main_.insert(k)) free.push_back(k);
-      }
-      return n;
     }
-    castRange(tree, origin, 0, n, mainState(), free);
+    if (!merged) castRange(tree, origin, 0, n, dense, main_);
+    collect(dense, merged, occupied, free);
     return n;
   }
 
  private:
   struct ThreadState {
-    VisitedVoxels visited;
+    VoxelBitset bits;
+    std::vector<octomap::OcTreeKey> outside;  // keys outside the bitset's box, in ray order
     octomap::KeyRay ray;
-    std::vector<octomap::OcTreeKey> free;
   };
-  // The main thread's state lives in separate members so that its visited set outlives a cast
-  // for the merge.
-  struct MainRef {
-    VisitedVoxels& visited;
-    octomap::KeyRay& ray;
-  };
-  MainRef mainState() { return {main_, mainRay_}; }
+
+  // Free keys: the bitsets' voxels without the occupied ones, then the voxels outside the box
+  // (deduplicated and sorted) merged in.
+  void collect(bool dense, bool merged, const std::vector<octomap::OcTreeKey>& occupied,
+               std::vector<octomap::OcTreeKey>& free) {
+    const size_t first = free.size();
+    octomap::KeySet occupiedOutside;
+    if (dense) {
+      occupiedBits_.reset(boxLo_, boxHi_);
+      for (const octomap::OcTreeKey& k : occupied) {
+        if (occupiedBits_.contains(k)) occupiedBits_.set(k);
+        else occupiedOutside.insert(k);
+      }
+      VoxelBitset::collect(main_.bits, merged ? &worker_.bits : nullptr, &occupiedBits_, free);
+    } else {
+      occupiedOutside.insert(occupied.begin(), occupied.end());
+    }
+    const size_t inBox = free.size();
+    octomap::KeySet seen;
+    for (const std::vector<octomap::OcTreeKey>* list : {&main_.outside, &worker_.outside}) {
+      if (list == &worker_.outside && !merged) break;
+      for (const octomap::OcTreeKey& k : *list) {
+        if (!occupiedOutside.count(k) && seen.insert(k).second) free.push_back(k);
+      }
+    }
+    if (free.size() == inBox) return;
+    auto byMorton = [](const octomap::OcTreeKey& a, const octomap::OcTreeKey& b) { return mortonCode(a) < mortonCode(b); };
+    std::sort(free.begin() + static_cast<std::ptrdiff_t>(inBox), free.end(), byMorton);
+    std::inplace_merge(free.begin() + static_cast<std::ptrdiff_t>(first), free.begin() + static_cast<std::ptrdiff_t>(inBox),
+                       free.end(), byMorton);
+  }
 
   // The rays' end points (cut at maxRange) and their bounding box with the origin, in keys.
   template <class Tree>
@@ -179,29 +149,34 @@ class RayCaster {
       targets_.push_back(end);
       truncated_.push_back(cut);
     }
+    boxLo_ = lo;
+    boxHi_ = hi;
   }
 
-  // Rays [first, last) of targets_, new voxels appended to out.
-  template <class Tree, class State>
-  void castRange(const Tree& tree, const octomap::point3d& origin, size_t first, size_t last, State&& st,
-                 std::vector<octomap::OcTreeKey>& out) const {
+  // Rays [first, last) of targets_, their voxels marked in st.bits (when `dense`) or listed in
+  // st.outside.
+  template <class Tree>
+  void castRange(const Tree& tree, const octomap::point3d& origin, size_t first, size_t last, bool dense,
+                 ThreadState& st) const {
+    auto mark = [&](const octomap::OcTreeKey& k) {
+      if (dense && st.bits.contains(k)) st.bits.set(k);
+      else st.outside.push_back(k);
+    };
     for (size_t i = first; i < last; ++i) {
       if (!tree.computeRayKeys(origin, targets_[i], st.ray)) continue;
-      for (const octomap::OcTreeKey& k : st.ray) {
-        if (st.visited.insert(k)) out.push_back(k);
-      }
+      for (const octomap::OcTreeKey& k : st.ray) mark(k);
       if (truncated_[i]) {
         octomap::OcTreeKey k;
-        if (tree.coordToKeyChecked(targets_[i], k) && st.visited.insert(k)) out.push_back(k);
+        if (tree.coordToKeyChecked(targets_[i], k)) mark(k);
       }
     }
   }
 
   std::vector<octomap::point3d> targets_;
   std::vector<bool> truncated_;
-  VisitedVoxels main_;
-  octomap::KeyRay mainRay_;
-  ThreadState worker_;
+  octomap::OcTreeKey boxLo_, boxHi_;
+  ThreadState main_, worker_;
+  VoxelBitset occupiedBits_;
 };
 
 }  // namespace rtabmap::maps_detail
