@@ -14,7 +14,11 @@
 // machine shared with other jobs includes waiting for a core). Frames are loaded before the
 // run: reading and decoding images is not odometry time.
 //
-// Usage: bench-visual_odometry_bench [--data DIR] [--frames N]
+// Usage: bench-visual_odometry_bench [--data DIR] [--frames N] [--only-f2m] [--set Name Value]...
+//                                     [--errors PATH]
+//   --only-f2m  only the default RGB-D and stereo F2M runs (profiling, parameter studies);
+//   --set       a parameter for every run (repeatable);
+//   --errors    writes `stamp error_m` per frame of the RGB-D F2M run (after ATE alignment).
 // Human-readable lines first, then one JSON line with every figure.
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
@@ -27,6 +31,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <string>
@@ -47,7 +52,15 @@ namespace {
 struct Settings {
   std::string data;
   int frames = 600;
+  bool onlyF2M = false;         // --only-f2m: the default F2M runs alone (profiling, parameter studies)
+  ParametersMap overrides;      // --set Name Value: applied to every run
+  std::string errorsPath;       // --errors PATH: per-frame ATE errors of the RGB-D F2M run
 };
+
+ParametersMap withOverrides(ParametersMap p, const Settings& s) {
+  for (const auto& [k, v] : s.overrides) p[k] = v;
+  return p;
+}
 
 double threadCpuMs() {
   timespec t{};
@@ -113,12 +126,14 @@ struct RunFigures {
   int keyFrames = 0;
   double wallMedian = 0.0, wallMax = 0.0, cpuMedian = 0.0, cpuMax = 0.0;
   double ateRmse = -1.0, ateMax = -1.0;
-  double featuresMedian = 0.0, inliersMedian = 0.0;
+  double featuresMedian = 0.0, matchesMedian = 0.0, inliersMedian = 0.0;
+  std::vector<std::pair<double, double>> errors;  // (stamp, ATE error m) per aligned frame
 
   Json json() const {
     return {{"frames", frames}, {"lost", lost}, {"key_frames", keyFrames}, {"ms_median", wallMedian},
             {"ms_max", wallMax}, {"cpu_ms_median", cpuMedian}, {"cpu_ms_max", cpuMax}, {"ate_rmse", ateRmse},
-            {"ate_max", ateMax}, {"features_median", featuresMedian}, {"inliers_median", inliersMedian}};
+            {"ate_max", ateMax}, {"features_median", featuresMedian}, {"matches_median", matchesMedian},
+            {"inliers_median", inliersMedian}};
   }
 };
 
@@ -129,7 +144,7 @@ RunFigures runOdometry(const std::string& name, Odometry::Type type, const Param
   r.name = name;
   std::unique_ptr<Odometry> odometry = Odometry::create(type, parameters);
   Trajectory estimate, truth;
-  std::vector<double> wall, cpu, features, inliers;
+  std::vector<double> wall, cpu, features, matches, inliers;
   for (const SensorData& frame : input) {
     SensorData data = frame;
     OdometryInfo info;
@@ -144,6 +159,7 @@ RunFigures runOdometry(const std::string& name, Odometry::Type type, const Param
     if (pose.isNull()) {
       ++r.lost;
     } else {
+      matches.push_back(info.reg.matches);
       inliers.push_back(info.reg.inliers);
       estimate.add(data.stamp(), cameraFrame ? pose * local : pose);
     }
@@ -155,6 +171,7 @@ RunFigures runOdometry(const std::string& name, Odometry::Type type, const Param
   r.cpuMedian = median(cpu);
   r.cpuMax = maxOf(cpu);
   r.featuresMedian = median(features);
+  r.matchesMedian = median(matches);
   r.inliersMedian = median(inliers);
   if (truth.size() >= 3 && estimate.size() >= 3) {
     AteOptions ate;
@@ -162,6 +179,9 @@ RunFigures runOdometry(const std::string& name, Odometry::Type type, const Param
     const AteResult a = computeAte(truth, estimate, ate);
     r.ateRmse = a.translation.rmse;
     r.ateMax = a.translation.max;
+    for (size_t i = 0; i < a.pairs.size() && i < a.errors.size(); ++i) {
+      r.errors.emplace_back(truth[a.pairs[i].first].stamp, a.errors[i]);
+    }
   }
   return r;
 }
@@ -172,7 +192,7 @@ void printRun(const RunFigures& r, const std::string& goal) {
             << std::setw(5) << r.ateMax * 100.0 << ")  time median " << std::setw(5) << r.wallMedian << " ms wall / "
             << std::setw(5) << r.cpuMedian << " ms CPU, max " << std::setw(6) << r.wallMax << " ms  lost " << r.lost
             << "/" << r.frames << "  key frames " << r.keyFrames << "  inliers " << std::setprecision(0)
-            << r.inliersMedian << goal << "\n";
+            << r.inliersMedian << "/" << r.matchesMedian << goal << "\n";
 }
 
 // Extraction time (CPU, median) of a feature type over frames.
@@ -228,8 +248,16 @@ int main(int argc, char** argv) {
       s.data = argv[++i];
     } else if (a == "--frames" && i + 1 < argc) {
       s.frames = std::atoi(argv[++i]);
+    } else if (a == "--only-f2m") {
+      s.onlyF2M = true;
+    } else if (a == "--set" && i + 2 < argc) {
+      s.overrides[argv[i + 1]] = argv[i + 2];
+      i += 2;
+    } else if (a == "--errors" && i + 1 < argc) {
+      s.errorsPath = argv[++i];
     } else {
-      std::cerr << "usage: bench-visual_odometry_bench [--data DIR] [--frames N]\n";
+      std::cerr << "usage: bench-visual_odometry_bench [--data DIR] [--frames N] [--only-f2m] [--set Name Value]... "
+                   "[--errors PATH]\n";
       return a == "--help" ? 0 : 2;
     }
   }
@@ -241,42 +269,55 @@ int main(int argc, char** argv) {
   const std::string euroc = data.empty() ? "" : data + "/euroc_v1_01_micro";
   std::error_code ec;
 
-  if (!sevenScenes.empty() && fs::is_directory(sevenScenes, ec)) {
-    const std::vector<SensorData> frames = loadFrames("7scenes", sevenScenes, s.frames);
+  const bool haveSevenScenes = !sevenScenes.empty() && fs::is_directory(sevenScenes, ec);
+  std::vector<SensorData> frames;  // 7-Scenes, loaded once
+  if (haveSevenScenes) {
+    frames = loadFrames("7scenes", sevenScenes, s.frames);
     std::cout << "7-Scenes: " << frames.size() << " RGB-D frames 640x480 from " << sevenScenes << "\n";
+    std::cout << "RGB-D odometry (goals F2M: ATE <= 3 cm, median <= 25 ms):\n";
+    const RunFigures f2m = runOdometry("F2M (defaults)", Odometry::Type::kF2M, withOverrides({}, s), frames, false);
+    if (!s.errorsPath.empty()) {
+      std::ofstream file(s.errorsPath);
+      for (const auto& [stamp, error] : f2m.errors) file << std::setprecision(17) << stamp << " " << error << "\n";
+    }
+    printRun(f2m, std::string("  goals ") + (f2m.ateRmse <= 0.03 ? "ATE ok" : "ATE MISSED") +
+                      (f2m.cpuMedian <= 25.0 ? ", time ok (CPU)" : ", time MISSED (CPU)"));
+    out["rgbd_7scenes"] = {{"f2m", f2m.json()}};
+  }
+  if (haveSevenScenes && !s.onlyF2M) {
     std::cout << "features (100 frames):\n";
     const std::vector<SensorData> sample(frames.begin(), frames.begin() + std::min<size_t>(100, frames.size()));
     out["features"] = {{"gftt_orb", extractionFigures(FeatureType::kGfttOrb, sample)},
                        {"gftt_brief", extractionFigures(FeatureType::kGfttBrief, sample)}};
     std::cout << "binary descriptor search:\n";
     out["binary_matching"] = binaryMatchingFigures(frames);
-    std::cout << "RGB-D odometry (goals F2M: ATE <= 3 cm, median <= 25 ms):\n";
-    const RunFigures f2m = runOdometry("F2M (defaults)", Odometry::Type::kF2M, {}, frames, false);
-    printRun(f2m, std::string("  goals ") + (f2m.ateRmse <= 0.03 ? "ATE ok" : "ATE MISSED") +
-                      (f2m.cpuMedian <= 25.0 ? ", time ok (CPU)" : ", time MISSED (CPU)"));
-    const RunFigures f2f = runOdometry("F2F (defaults)", Odometry::Type::kF2F, {}, frames, false);
+    std::cout << "RGB-D odometry, other configurations:\n";
+    const RunFigures f2f = runOdometry("F2F (defaults)", Odometry::Type::kF2F, withOverrides({}, s), frames, false);
     printRun(f2f, "");
     const RunFigures f2fFlow = runOdometry("F2F optical flow (Vis/CorType 1)", Odometry::Type::kF2F,
-                                           {{"Vis/CorType", "1"}}, frames, false);
+                                           withOverrides({{"Vis/CorType", "1"}}, s), frames, false);
     printRun(f2fFlow, "");
     const RunFigures f2mBrief = runOdometry("F2M GFTT/BRIEF (Vis/FeatureType 6)", Odometry::Type::kF2M,
-                                            {{"Vis/FeatureType", "6"}}, frames, false);
+                                            withOverrides({{"Vis/FeatureType", "6"}}, s), frames, false);
     printRun(f2mBrief, "");
     // The RANSAC cost: P3P minimal samples (4 points) need fewer iterations than the default
     // iterative solver's EPnP samples (5 points) at the ~50% inlier ratio of F2M's matches.
     const RunFigures f2mP3P = runOdometry("F2M P3P RANSAC (Vis/PnPFlags 2)", Odometry::Type::kF2M,
-                                          {{"Vis/PnPFlags", "2"}}, frames, false);
+                                          withOverrides({{"Vis/PnPFlags", "2"}}, s), frames, false);
     printRun(f2mP3P, "");
-    out["rgbd_7scenes"] = {{"f2m", f2m.json()}, {"f2f", f2f.json()}, {"f2f_flow", f2fFlow.json()},
-                           {"f2m_gftt_brief", f2mBrief.json()}, {"f2m_p3p", f2mP3P.json()}};
-  } else {
+    out["rgbd_7scenes"].update({{"f2f", f2f.json()}, {"f2f_flow", f2fFlow.json()},
+                                {"f2m_gftt_brief", f2mBrief.json()}, {"f2m_p3p", f2mP3P.json()}});
+  }
+  if (!haveSevenScenes) {
     std::cout << "7-Scenes: skipped (../shared/data/rgbd_7scenes absent; set RTABMAP_DATA_DIR or --data)\n";
   }
 
+  frames.clear();
   if (!euroc.empty() && fs::is_directory(euroc, ec)) {
-    const std::vector<SensorData> frames = loadFrames("euroc", euroc, 0);
+    frames = loadFrames("euroc", euroc, 0);
     std::cout << "EuRoC V1_01 micro: " << frames.size() << " stereo pairs from " << euroc << "\n";
-    const RunFigures f2m = runOdometry("stereo F2M (defaults), camera frame", Odometry::Type::kF2M, {}, frames, true);
+    const RunFigures f2m =
+        runOdometry("stereo F2M (defaults), camera frame", Odometry::Type::kF2M, withOverrides({}, s), frames, true);
     printRun(f2m, "");
     out["stereo_euroc"] = {{"f2m", f2m.json()}};
   } else {
