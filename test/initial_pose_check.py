@@ -195,7 +195,12 @@ class InitialPoseTest(unittest.TestCase):
         rospy.loginfo("localization from initial_pose: %d localization_pose, errors %s", len(given),
                       ["%.2f" % e for e in given])
         self.assertGreater(len(given), 2, "no localization from initial_pose")
-        self.assertLess(max(given), 0.25)
+        # The pose is the truth at the replay's first frame, and the robot is already moving (0.5
+        # m/s at 2 Hz): when the node's first update is a frame or two later (tf not buffered yet),
+        # that update starts up to ~1 s of motion off (seen once in ten runs: 0.65 m), and the
+        # next localisations correct it. Every later one must be on the truth.
+        self.assertLess(given[0], 1.0)
+        self.assertLess(max(given[1:]), 0.25)
         self.assertEqual(param.kill(signal.SIGINT), 0, param.log()[-3000:])
         self.assertIn("initial_pose: the robot is at", param.log())
         self.assertEqual(set(fault.database_node_ids(db)), saved, "localization modified the map")
