@@ -116,3 +116,8 @@ def ate(estimate, truth):
     r = u @ d @ vt
     aligned = (r @ (a - ca).T).T + cb
     return float(np.sqrt(np.mean(np.sum((aligned - b) ** 2, axis=1))))
+
+
+def grid_cells(grid):
+    """(free, occupied) cell counts of a nav_msgs/OccupancyGrid (0 and 100; -1 is unknown)."""
+    return sum(1 for v in grid.data if v == 0), sum(1 for v in grid.data if v == 100)

@@ -112,8 +112,7 @@ class SlamLidar3dTest(unittest.TestCase):
         self.assertTrue(self.grids, "no grid_map")
         grid = self.grids[-1]
         self.assertEqual(grid.header.frame_id, "map")
-        free = sum(1 for v in grid.data if v == 0)
-        occupied = sum(1 for v in grid.data if v == 100)
+        free, occupied = common.grid_cells(grid)
         rospy.loginfo("grid_map %dx%d at %.2f m: %d free, %d occupied", grid.info.width, grid.info.height,
                       grid.info.resolution, free, occupied)
         # A 21-room building at 10 cm cells: thousands of free cells, walls as obstacles.

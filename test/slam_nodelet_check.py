@@ -74,8 +74,7 @@ class SlamNodeletTest(unittest.TestCase):
                                         self.assembled[-1].header.stamp >= graph.header.stamp, 10.0),
                         "the map_assembler nodelet did not publish the last update's grid")
         grid = self.assembled[-1]
-        occupied = sum(1 for v in grid.data if v == 100)
-        free = sum(1 for v in grid.data if v == 0)
+        free, occupied = common.grid_cells(grid)
         rospy.loginfo("map_assembler nodelet: grid %dx%d, %d occupied, %d free cells", grid.info.width,
                       grid.info.height, occupied, free)
         self.assertEqual(grid.header.frame_id, "map")

@@ -97,8 +97,7 @@ class SlamRtabmapTest(unittest.TestCase):
         grid = self.grids[-1]
         self.assertEqual(grid.header.frame_id, "map")
         self.assertEqual(len(grid.data), grid.info.width * grid.info.height)
-        free = sum(1 for v in grid.data if v == 0)
-        occupied = sum(1 for v in grid.data if v == 100)
+        free, occupied = common.grid_cells(grid)
         rospy.loginfo("grid_map %dx%d at %.3f m: %d free, %d occupied", grid.info.width, grid.info.height,
                       grid.info.resolution, free, occupied)
         self.assertGreater(free, 1000)
