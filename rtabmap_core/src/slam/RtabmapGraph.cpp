@@ -135,6 +135,7 @@ std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<L
     for (const Link& l : newLinks) {
       detector->memory().removeLink(l.from(), l.to(), l.type());
       detector->linksChanged({l.from(), l.to()});
+      graph.unmergeMaps(graph.mapOf(l.from()), graph.mapOf(l.to()));
     }
     RTABMAP_WARN("rejected " << newLinks.size() << " new link(s) of node " << newId << ": after optimisation a link is off by "
                              << worst << " standard deviations (" << worstMetres << " m), more than "

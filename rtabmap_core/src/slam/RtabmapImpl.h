@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "LinkRegistration.h"
+#include "MergeArbiter.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/features/FeatureDetector.h"
 #include "rtabmap_core/maps/LocalGridOptions.h"
@@ -88,6 +89,10 @@ struct Rtabmap::Impl {
   Transform initialLocalizationPose;  // last pose of the saved map (RGBD/StartAtOrigin false)
   Transform initialPose;              // given by the user, applied at the next update (null: none)
   std::map<int, std::string> labelCache;
+  // Multi-session: the links this process added between the current map and earlier ones, and
+  // the vote on whether they merged it at the right place.
+  std::vector<Link> mergeLinks;
+  MergeArbiter mergeArbiter;
 
   // --- outputs ---
   Statistics stats;
@@ -118,8 +123,10 @@ struct Rtabmap::Impl {
   void refineNeighborLink(int newId);
   // Registration of an accepted hypothesis; the link, or nullopt (rejected, reason logged).
   // checkDistance: refuse a link that moves the robot more than RGBD/MaxLoopClosureDistance
-  // from where the graph puts it (not before a first localization: the robot is anywhere).
-  std::optional<Link> verifyLoopClosure(int newId, int hypothesisId, bool checkDistance);
+  // from where the graph puts it (not before a first localization: the robot is anywhere);
+  // such a link is given in `refusedForJump` when not null.
+  std::optional<Link> verifyLoopClosure(int newId, int hypothesisId, bool checkDistance,
+                                        std::optional<Link>* refusedForJump = nullptr);
 
   // RtabmapGraph.cpp
   std::map<int, Transform> ramPosesOfGroup() const;
@@ -128,6 +135,13 @@ struct Rtabmap::Impl {
   // them (RGBD/OptimizeMaxError). Returns the links kept.
   std::vector<Link> optimizeLocalMap(int newId, const std::vector<Link>& newLinks);
   OptimizerOptions incrementalOptions(const std::map<int, Transform>& input, const std::vector<Link>& newLinks) const;
+  // Links kept this update that join the current map to another one: merge links, and the
+  // global ones vote for the merge.
+  void recordMergeLinks(const std::vector<Link>& kept);
+  // A closure to another map refused for its jump votes against the merge; when the vote turns,
+  // the merge is undone and redone through the agreeing closures (returned, to optimise).
+  std::vector<Link> arbitrateMerge(int newId, const std::optional<Link>& refusedForJump);
+  std::vector<Link> remerge(const Remerge& r);
   void retrieveNearRobot(const Transform& pose, memory::LoopClosureUpdate& u, std::set<int>& immune);
   std::set<int> localImmunity(const Transform& pose) const;
 

@@ -112,7 +112,8 @@ void Rtabmap::Impl::refineNeighborLink(int newId) {
   }
 }
 
-std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId, bool checkDistance) {
+std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId, bool checkDistance,
+                                                     std::optional<Link>* refusedForJump) {
   memory::Memory& memory = detector->memory();
   Signature* current = memory.mutableSignature(newId);
   Signature* hypothesis = memory.mutableSignature(hypothesisId);
@@ -129,6 +130,7 @@ std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId
     RTABMAP_INFO("loop closure " << newId << "->" << hypothesisId << " rejected: " << info.rejectedMsg);
     return std::nullopt;
   }
+  Link link(newId, hypothesisId, Link::kGlobalClosure, t, informationOf(info.covariance, options.covOffDiagIgnored));
   if (checkDistance && options.maxLoopClosureDistance > 0.0f) {
     const Transform there = graph.pose(hypothesisId), here = graph.pose(newId);
     if (!there.isNull() && !here.isNull() && graph.sameGroup(graph.mapOf(hypothesisId), mapId)) {
@@ -137,11 +139,12 @@ std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId
         RTABMAP_INFO("loop closure " << newId << "->" << hypothesisId << " rejected: it moves the robot by " << jump
                                      << " m, more than " << Parameters::kRGBDMaxLoopClosureDistance() << " "
                                      << options.maxLoopClosureDistance);
+        if (refusedForJump) *refusedForJump = link;
         return std::nullopt;
       }
     }
   }
-  return Link(newId, hypothesisId, Link::kGlobalClosure, t, informationOf(info.covariance, options.covOffDiagIgnored));
+  return link;
 }
 
 }  // namespace rtabmap

@@ -124,8 +124,9 @@ bool Rtabmap::addLink(const Link& link) {
   if (m.lastNodeId == 0 || !m.options.metric) return true;
   // Re-optimised now rather than at the next update: the caller learns whether the graph
   // accepted the link, and map -> odom follows at once.
-  if (m.optimizeLocalMap(m.lastNodeId, {user}).empty()) return refuseLink("the graph disagrees with the link (" +
-                                                                           std::string(Parameters::kRGBDOptimizeMaxError()) + ")");
+  const std::vector<Link> kept = m.optimizeLocalMap(m.lastNodeId, {user});
+  if (kept.empty()) return refuseLink("the graph disagrees with the link (" + std::string(Parameters::kRGBDOptimizeMaxError()) + ")");
+  m.recordMergeLinks(kept);
   const Transform pose = m.graph.pose(m.lastNodeId);
   if (!pose.isNull() && !m.lastNodeOdom.isNull()) {
     m.mapCorrection = pose * m.lastNodeOdom.inverse();

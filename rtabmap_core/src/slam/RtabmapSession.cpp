@@ -15,6 +15,11 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
   options = RtabmapOptions::fromParameters(p);
   detectorOptions = memory::LoopClosureDetectorOptions::fromParameters(p);
   optimizer = OptimizerOptions::fromParameters(p);
+  {
+    MergeArbiterOptions merge;
+    merge.planar = optimizer.force3DoF;
+    mergeArbiter = MergeArbiter(merge);
+  }
   planner = PathPlanner(PlannerOptions::fromParameters(p));
   if (options.metric) registration = std::make_unique<LinkRegistration>(p);
   if (options.createOccupancyGrid) {
@@ -108,6 +113,8 @@ void Rtabmap::Impl::startNewMap() {
   mapCorrection = Transform::Identity();
   lastNodeOdom = Transform();
   lastNodeId = 0;
+  mergeLinks.clear();
+  mergeArbiter.reset();
   ++summary.mapsStarted;
   RTABMAP_INFO("new map " << mapId << " (previous " << previous << ")");
 }

@@ -142,9 +142,9 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
   detector->detect(newId, u, true);
   std::vector<Link> newLinks;
   if (u.highest.accepted) {
-    std::optional<Link> link;
+    std::optional<Link> link, refusedForJump;
     if (options.metric) {
-      link = verifyLoopClosure(newId, u.highest.id, true);
+      link = verifyLoopClosure(newId, u.highest.id, true, &refusedForJump);
     } else {
       link = Link(newId, u.highest.id, Link::kGlobalClosure, Transform::Identity());
     }
@@ -155,6 +155,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     } else {
       ++summary.rejectedLinks;
       stats.addStatistic(Statistics::kLoopRejected_hypothesis, 1.f);
+      if (options.metric) newLinks = arbitrateMerge(newId, refusedForJump);
     }
   }
 
@@ -190,6 +191,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     if (!newLinks.empty() || !u.retrieved.empty()) {
       const std::vector<Link> kept = optimizeLocalMap(newId, newLinks);
       summary.rejectedLinks += static_cast<int>(newLinks.size() - kept.size());
+      recordMergeLinks(kept);
       for (const Link& l : kept) {
         if (l.type() == Link::kGlobalClosure) {
           ++summary.loopClosures;

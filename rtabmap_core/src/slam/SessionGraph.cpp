@@ -21,6 +21,7 @@ void SessionGraph::erase(int id) { nodes_.erase(id); }
 void SessionGraph::clear() {
   nodes_.clear();
   parent_.clear();
+  joins_.clear();
 }
 
 Transform SessionGraph::pose(int id) const {
@@ -40,6 +41,22 @@ int SessionGraph::groupOf(int mapId) const {
 }
 
 void SessionGraph::mergeMaps(int mapA, int mapB) {
+  if (mapA == mapB) return;
+  ++joins_[std::minmax(mapA, mapB)];
+  unite(mapA, mapB);
+}
+
+void SessionGraph::unmergeMaps(int mapA, int mapB) {
+  auto it = joins_.find(std::minmax(mapA, mapB));
+  if (it == joins_.end()) return;
+  if (--it->second > 0) return;
+  joins_.erase(it);
+  // Union-find cannot split: the groups are rebuilt from the joins left.
+  for (auto& [m, parent] : parent_) parent = m;
+  for (const auto& [maps, count] : joins_) unite(maps.first, maps.second);
+}
+
+void SessionGraph::unite(int mapA, int mapB) {
   parent_.emplace(mapA, mapA);
   parent_.emplace(mapB, mapB);
   const int a = groupOf(mapA), b = groupOf(mapB);

@@ -26,6 +26,27 @@ TEST(SessionGraph, MapsMergeTransitivelyIntoTheOldestReferential) {
   EXPECT_TRUE(g.pose(99).isNull());
 }
 
+TEST(SessionGraph, MapsPartWhenTheLastLinkJoiningThemIsRemoved) {
+  SessionGraph g;
+  for (int m = 0; m < 4; ++m) g.setPose(m + 1, m, Transform::Identity());
+  g.mergeMaps(0, 1);
+  g.mergeMaps(1, 2);
+  g.mergeMaps(1, 2);  // two links between maps 1 and 2
+  g.mergeMaps(3, 3);  // a link within a map joins nothing
+  EXPECT_EQ(g.mapsMergedWith(2), (std::set<int>{0, 1, 2}));
+  g.unmergeMaps(2, 1);
+  EXPECT_TRUE(g.sameGroup(0, 2)) << "one link still joins maps 1 and 2";
+  g.unmergeMaps(1, 2);
+  EXPECT_FALSE(g.sameGroup(0, 2));
+  EXPECT_TRUE(g.sameGroup(0, 1)) << "the other groups are rebuilt as their links say";
+  EXPECT_EQ(g.groupOf(2), 2);
+  EXPECT_EQ(g.posesOfGroup(2).size(), 1u);
+  g.unmergeMaps(2, 3);  // never joined: nothing
+  g.unmergeMaps(0, 1);
+  EXPECT_EQ(g.mapsMergedWith(1), (std::set<int>{1}));
+  EXPECT_EQ(g.mapsMergedWith(3), (std::set<int>{3}));
+}
+
 TEST(SessionGraph, UpdatesMoveOnlyKnownNodes) {
   SessionGraph g;
   g.setPose(1, 0, Transform::Identity());

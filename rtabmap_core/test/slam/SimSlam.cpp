@@ -89,6 +89,7 @@ void runSimSlam(const std::string& folder, const ParametersMap& parameters, cons
   run.summary.rejectedLinks += s.rejectedLinks;
   run.summary.localizations += s.localizations;
   run.summary.mapsStarted += s.mapsStarted;
+  run.summary.remerges += s.remerges;
   run.refused += s.refused;
   slam.close();
 }

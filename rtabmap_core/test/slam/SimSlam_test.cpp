@@ -3,6 +3,7 @@
 // referential, localization that leaves the database untouched.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -79,10 +80,11 @@ TEST(SimSlam, ReverseLapClosesWithLaserProximity) {
 // Each session starts somewhere else with odometry reset: a new map, merged into the first
 // session's referential by its loop closures with the earlier ones.
 //
-// Known limit (see the issue notes): the simulator's materials repeat every 4 m and its blocks
-// of rooms are regular, so session 3 finds an aliased place 12 m off (camera and laser agree)
-// before any true one and merges there. A first link between two maps has no common
-// referential to check it against. Sessions 1 and 2 merge correctly; that is what is measured.
+// The simulator's materials repeat every 4 m and its blocks of rooms are regular: session 3
+// finds an aliased place 11 m off (camera and laser agree) before any true one and merges
+// there. A first link between two maps has no common referential to check it against; the
+// true closures that follow are refused for their jump, agree with each other, outvote the
+// wrong merge and merge the session again at the right place (MergeArbiter).
 TEST(SimSlam, SessionsMergeIntoTheFirstSessionsReferential) {
   REQUIRE_SIM(folder, "multisession");
   test::TempDir dir("rtabmap_slam_multisession");
@@ -108,14 +110,15 @@ TEST(SimSlam, SessionsMergeIntoTheFirstSessionsReferential) {
       known += run.optimized.count(id);
     }
     EXPECT_EQ(known, run.groundTruth.size()) << "session " << s << " not merged with the earlier ones";
-    if (s == 2) {
+    if (s >= 2) {
       const double merged = test::nodeAte(run.optimized, run.groundTruth);
-      std::cout << "sessions 1+2 merged: ATE " << merged << " m over " << run.groundTruth.size()
-                << " nodes (odometry ATE of each session in its own frame: " << odomAte[0] << ", " << odomAte[1]
-                << ")" << std::endl;
+      const double worstOdom = *std::max_element(odomAte.begin(), odomAte.end());
+      std::cout << "sessions 1-" << s << " merged: ATE " << merged << " m over " << run.groundTruth.size()
+                << " nodes (worst odometry ATE of a session in its own frame: " << worstOdom
+                << "); merges redone: " << session.summary.remerges << std::endl;
       // A wrong merge puts a session metres away; a right one leaves each session's own drift
       // (session 1 has no loop of its own to correct it).
-      EXPECT_LT(merged, 1.25 * std::max(odomAte[0], odomAte[1]) + 0.05) << "ATE of sessions 1 and 2 in one referential";
+      EXPECT_LT(merged, 1.25 * worstOdom + 0.05) << "ATE of sessions 1 to " << s << " in one referential";
       std::string which;
       EXPECT_LT(test::worstLinkError(run.links, run.groundTruth, {Link::kGlobalClosure, Link::kLocalSpaceClosure},
                                      nullptr, &which),

@@ -71,6 +71,7 @@ struct SlamSummary {
   int rejectedLinks = 0;      // hypotheses whose registration failed + links undone by OptimizeMaxError
   int localizations = 0;      // localization mode: updates localised on the map
   int mapsStarted = 0;        // maps (sessions) started, the first one included
+  int remerges = 0;           // merges with earlier maps undone and redone (MergeArbiter)
   int transferred = 0, retrieved = 0;
   int maxWmSize = 0;
 };

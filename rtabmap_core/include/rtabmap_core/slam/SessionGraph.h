@@ -3,13 +3,15 @@
 // session that created it), its last optimised pose, and which maps are merged into one
 // referential (Labbé & Michaud, "Online global loop closure detection for large-scale
 // multi-session graph-based SLAM", IROS 2014): two maps are merged as soon as one link joins
-// them, and stay merged. The global map and the trajectory span the maps merged with the
+// them, and stay merged while one does (a wrong merge can be undone, see MergeArbiter). The
+// global map and the trajectory span the maps merged with the
 // current one; a map never linked to the current one is a separate referential.
 //
 // A few dozen bytes per node, so it holds the whole database: the local optimisation only
 // moves the nodes in RAM, the others keep the pose they had when they left.
 #include <map>
 #include <set>
+#include <utility>
 
 #include "rtabmap_core/geometry/Transform.h"
 
@@ -29,8 +31,10 @@ class SessionGraph {
   Transform pose(int id) const;
   // -1 if unknown.
   int mapOf(int id) const;
-  // The maps of these two nodes (or map ids) are joined by a link: one referential from now on.
+  // A link joins these two maps: one referential from now on (nothing when they are the same).
   void mergeMaps(int mapA, int mapB);
+  // A link that joined them is gone: they part when it was the last one joining their groups.
+  void unmergeMaps(int mapA, int mapB);
   // The representative of a map's group (the smallest map id merged with it).
   int groupOf(int mapId) const;
   bool sameGroup(int mapA, int mapB) const { return groupOf(mapA) == groupOf(mapB); }
@@ -48,7 +52,10 @@ class SessionGraph {
     Transform pose;
   };
   std::map<int, Node> nodes_;
-  std::map<int, int> parent_;  // union-find over map ids
+  void unite(int mapA, int mapB);
+
+  std::map<int, int> parent_;                 // union-find over map ids
+  std::map<std::pair<int, int>, int> joins_;  // links joining two maps (smaller id first)
 };
 
 }  // namespace rtabmap
