@@ -129,6 +129,16 @@ TEST(SimSlam, SessionsMergeIntoTheFirstSessionsReferential) {
   EXPECT_EQ(run.summary.mapsStarted, 3);
   EXPECT_LT(maps[0], maps[1]);
   EXPECT_LT(maps[1], maps[2]);
+
+  // The database alone says the same: the undone merge links are gone from it, so a new
+  // process rebuilds one referential from the links left.
+  Rtabmap reopened;
+  reopened.init(test::simSlamParameters(), db);
+  const std::map<int, Transform> poses = reopened.optimizedPoses();
+  EXPECT_EQ(poses.size(), run.groundTruth.size()) << "every session in the reopened map's referential";
+  EXPECT_LT(test::nodeAte(poses, run.groundTruth), 1.25 * *std::max_element(odomAte.begin(), odomAte.end()) + 0.05);
+  EXPECT_LT(test::worstLinkError(reopened.allLinks(), run.groundTruth, {Link::kGlobalClosure}), 0.25);
+  reopened.close();
 }
 
 }  // namespace
