@@ -7,8 +7,9 @@
 // is refused for its jump.
 //
 // So a merge is a vote. Support: the global loop closures accepted between the current map and
-// the others. Dissent: closures to another map refused for their jump, kept as evidence with the
-// pose they imply for the robot. When enough recent dissenting closures agree with each other
+// the others. Dissent: closures to another map refused for their jump, or by the graph
+// (RGBD/OptimizeMaxError, when there is no jump limit), kept as evidence with the pose they
+// imply for the robot. When enough recent dissenting closures agree with each other
 // on where the current map is, and they outnumber the support, the caller undoes the merge and
 // merges again through them. Proximity links do not vote: they are searched near where the
 // graph already puts the robot, so they follow the merge instead of testing it.
@@ -46,8 +47,8 @@ class MergeArbiter {
   void support() { ++support_; }
   // The user linked the maps (Link::kUserClosure): the merge is not put to the vote.
   void settle() { settled_ = true; }
-  // A closure from the current map's node link.from() to another map, refused for its jump:
-  // the graph had the node at `graphPose`, the closure puts it at `impliedPose`.
+  // A closure from the current map's node link.from() to another map, refused for its jump or
+  // by the graph: the graph had the node at `graphPose`, the closure puts it at `impliedPose`.
   void dissent(const Link& link, const Transform& graphPose, const Transform& impliedPose);
   // After forgetting dissent older than windowNodes before `newestId`: the largest group of
   // agreeing dissent when it has at least minDissent closures and more than the support.

@@ -138,9 +138,10 @@ struct Rtabmap::Impl {
   // Links kept this update that join the current map to another one: merge links, and the
   // global ones vote for the merge.
   void recordMergeLinks(const std::vector<Link>& kept);
-  // A closure to another map refused for its jump votes against the merge; when the vote turns,
-  // the merge is undone and redone through the agreeing closures (returned, to optimise).
-  std::vector<Link> arbitrateMerge(int newId, const std::optional<Link>& refusedForJump);
+  // A closure to another map refused for its jump or by the graph votes against the merge;
+  // when the vote turns, the merge is undone and redone through the agreeing closures
+  // (returned, to optimise).
+  std::vector<Link> arbitrateMerge(int newId, const std::optional<Link>& refused);
   std::vector<Link> remerge(const Remerge& r);
   void retrieveNearRobot(const Transform& pose, memory::LoopClosureUpdate& u, std::set<int>& immune);
   std::set<int> localImmunity(const Transform& pose) const;

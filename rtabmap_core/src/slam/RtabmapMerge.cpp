@@ -17,9 +17,9 @@ void Rtabmap::Impl::recordMergeLinks(const std::vector<Link>& kept) {
   }
 }
 
-std::vector<Link> Rtabmap::Impl::arbitrateMerge(int newId, const std::optional<Link>& refusedForJump) {
-  if (!refusedForJump || mergeLinks.empty()) return {};
-  const Link& l = *refusedForJump;
+std::vector<Link> Rtabmap::Impl::arbitrateMerge(int newId, const std::optional<Link>& refused) {
+  if (!refused || mergeLinks.empty()) return {};
+  const Link& l = *refused;
   if (graph.mapOf(l.to()) == mapId) return {};  // within the current map: not about the merge
   const Transform here = graph.pose(l.from()), there = graph.pose(l.to());
   if (here.isNull() || there.isNull()) return {};

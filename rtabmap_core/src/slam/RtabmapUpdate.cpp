@@ -189,8 +189,15 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
   // --- optimisation of the local map, map -> odom ---
   if (options.metric) {
     if (!newLinks.empty() || !u.retrieved.empty()) {
-      const std::vector<Link> kept = optimizeLocalMap(newId, newLinks);
+      std::vector<Link> kept = optimizeLocalMap(newId, newLinks);
       summary.rejectedLinks += static_cast<int>(newLinks.size() - kept.size());
+      if (kept.empty() && newLinks.size() == 1 && newLinks.front().type() == Link::kGlobalClosure) {
+        // The graph refused the closure (RGBD/OptimizeMaxError): without a jump limit, that is
+        // how a true closure against a wrong merge ends, a vote against the merge as well.
+        newLinks = arbitrateMerge(newId, newLinks.front());
+        if (!newLinks.empty()) kept = optimizeLocalMap(newId, newLinks);
+        summary.rejectedLinks += static_cast<int>(newLinks.size() - kept.size());
+      }
       recordMergeLinks(kept);
       for (const Link& l : kept) {
         if (l.type() == Link::kGlobalClosure) {
