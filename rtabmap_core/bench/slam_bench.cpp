@@ -59,7 +59,7 @@ std::string lidar2dConfig() {
 // The simulator's robot (see test/slam/SimSlam.cpp).
 const char* kSimRobot =
     "--Rtabmap/DetectionRate 1 --Grid/Sensor 0 --Reg/Strategy 2 --Reg/Force3DoF true "
-    "--RGBD/ProximityPathMaxNeighbors 5 --RGBD/MaxLoopClosureDistance 2 --Icp/VoxelSize 0.05 --Icp/PointToPlane true "
+    "--RGBD/ProximityPathMaxNeighbors 5 --RGBD/NeighborLinkRefining true --RGBD/MaxLoopClosureDistance 2 --Icp/VoxelSize 0.05 --Icp/PointToPlane true "
     "--Icp/CorrespondenceRatio 0.3 --Icp/MaxCorrespondenceDistance 0.3 --Icp/Iterations 50 --Icp/MaxRotation 0.5 "
     "--Icp/MaxTranslation 1";
 

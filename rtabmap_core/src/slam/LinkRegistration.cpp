@@ -38,8 +38,20 @@ Transform LinkRegistration::compute(Signature& from, Signature& to, const Transf
   out = RegistrationInfo();
   if (visual_) return visual_->computeTransform(from, to, guess, &out);
   if (visualIcp_) return visualIcp_->computeTransform(from, to, guess, &out);
+  return computeIcp(from, to, guess, &out);
+}
+
+Transform LinkRegistration::computeIcp(Signature& from, Signature& to, const Transform& guess,
+                                       RegistrationInfo* info) const {
+  RegistrationInfo scratch;
+  RegistrationInfo& out = info ? *info : scratch;
+  out = RegistrationInfo();
+  if (!usesScans()) {
+    out.rejectedMsg = "scan matching needs Reg/Strategy 1 or 2";
+    return Transform();
+  }
   if (guess.isNull()) {
-    out.rejectedMsg = "ICP (Reg/Strategy 1) only refines a motion guess and none was given";
+    out.rejectedMsg = "ICP only refines a motion guess and none was given";
     return Transform();
   }
   std::string problem;
@@ -50,7 +62,7 @@ Transform LinkRegistration::compute(Signature& from, Signature& to, const Transf
                       (problem.empty() ? std::string() : " (" + problem + ")");
     return Transform();
   }
-  return icp_->computeTransform(a, b, guess, &out);
+  return icp(a, b, guess, &out);
 }
 
 Transform LinkRegistration::icp(const LaserScan& from, const LaserScan& to, const Transform& guess,

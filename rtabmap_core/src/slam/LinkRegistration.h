@@ -39,6 +39,8 @@ class LinkRegistration {
   // failure. `guess` null = none (ICP alone then refuses: it only refines a guess). The nodes'
   // sensor data may gain cached features and uncompressed scans.
   Transform compute(Signature& from, Signature& to, const Transform& guess, RegistrationInfo* info) const;
+  // ICP of the two nodes' laser scans from `guess` alone, whatever the strategy (1 or 2).
+  Transform computeIcp(Signature& from, Signature& to, const Transform& guess, RegistrationInfo* info) const;
   // ICP of two scans (each with its local transform), from `guess`.
   Transform icp(const LaserScan& from, const LaserScan& to, const Transform& guess, RegistrationInfo* info) const;
 

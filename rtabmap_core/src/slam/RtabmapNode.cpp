@@ -99,7 +99,14 @@ void Rtabmap::Impl::refineNeighborLink(int newId) {
     if (!previous) continue;
     RegistrationInfo info;
     const Link forward = link.inverse();  // previous -> new
-    const Transform t = registration->compute(*previous, *current, forward.transform(), &info);
+    Transform t = registration->compute(*previous, *current, forward.transform(), &info);
+    if (t.isNull() && registration->usesVision() && registration->usesScans()) {
+      // Visual then ICP (Reg/Strategy 2): in a turn the two images share too few features for
+      // the visual step, whose only use here is a guess for ICP; the odometry is one already.
+      const std::string visualProblem = info.rejectedMsg;
+      t = registration->computeIcp(*previous, *current, forward.transform(), &info);
+      if (t.isNull()) info.rejectedMsg = visualProblem + "; ICP from the odometry: " + info.rejectedMsg;
+    }
     stats.addStatistic(Statistics::kNeighborLinkRefiningAccepted, t.isNull() ? 0.f : 1.f);
     if (t.isNull()) {
       RTABMAP_DEBUG("neighbour link " << to << "->" << newId << " not refined: " << info.rejectedMsg);

@@ -30,10 +30,11 @@ ParametersMap lidarRobot() {
 }
 
 // The refined link between the robot's two nodes, after driving `step` along `world`.
-Link refinedLink(const test::World2D& world, const Transform& start, const Transform& step) {
+Link refinedLink(const test::World2D& world, const Transform& start, const Transform& step,
+                 const ParametersMap& parameters = lidarRobot()) {
   test::TempDir dir;
   Rtabmap slam;
-  slam.init(lidarRobot(), dir.path() + "/map.db");
+  slam.init(parameters, dir.path() + "/map.db");
   test::Lidar2D lidar;
   lidar.rangeMax = 8.0;
   lidar.noise = 0.005;
@@ -75,6 +76,18 @@ TEST(NeighborLinkRefining, RoomLinkIsConstrainedInEveryDirection) {
   EXPECT_GT(inf(5, 5), 1e3) << inf.diagonal().transpose();
   const Transform truth(0.25, -0.05, 0.0, 0, 0, 0.05);
   EXPECT_LT((truth.inverse() * link.transform()).getNorm(), 0.01);
+}
+
+// Reg/Strategy 2 (visual then ICP): where the images do not match (a turn; here no image at
+// all) the visual step fails, and ICP alone refines the link from the odometry.
+TEST(NeighborLinkRefining, VisualThenIcpFallsBackToIcpFromTheOdometry) {
+  ParametersMap p = lidarRobot();
+  p[Parameters::kRegStrategy()] = "2";
+  p[Parameters::kKpMaxFeatures()] = "-1";
+  const Transform truth(0.25, -0.05, 0.0, 0, 0, 0.05);
+  const Link link = refinedLink(test::officeWorld(), Transform(4.0, 6.0, 0.3), truth, p);
+  EXPECT_LT((truth.inverse() * link.transform()).getNorm(), 0.01) << link.transform().prettyPrint();
+  EXPECT_NE(link.infMatrix()(0, 0), 1e4) << "the wheel odometry's link was kept";
 }
 
 }  // namespace

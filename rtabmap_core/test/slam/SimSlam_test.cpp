@@ -118,6 +118,8 @@ void sessionsMergeIntoTheFirstSessionsReferential(const std::string& folder, con
       // A wrong merge puts a session metres away; a right one leaves each session's own drift
       // (session 1 has no loop of its own to correct it).
       EXPECT_LT(merged, 1.25 * worstOdom + 0.05) << "ATE of sessions 1 to " << s << " in one referential";
+      // The goal for the merged map.
+      EXPECT_LT(merged, 0.10) << "ATE of sessions 1 to " << s << " in one referential";
       std::string which;
       EXPECT_LT(test::worstLinkError(run.links, run.groundTruth, {Link::kGlobalClosure, Link::kLocalSpaceClosure},
                                      nullptr, &which),
