@@ -85,7 +85,9 @@ TEST(SimSlam, ReverseLapClosesWithLaserProximity) {
 // there. A first link between two maps has no common referential to check it against; the
 // true closures that follow are refused for their jump, agree with each other, outvote the
 // wrong merge and merge the session again at the right place (MergeArbiter).
-void sessionsMergeIntoTheFirstSessionsReferential(const std::string& folder, const ParametersMap& parameters) {
+TEST(SimSlam, SessionsMergeIntoTheFirstSessionsReferential) {
+  REQUIRE_SIM(folder, "multisession");
+  const ParametersMap parameters = test::simSlamParameters();
   test::TempDir dir("rtabmap_slam_multisession");
   const std::string db = dir.file("rtabmap.db");
   SimSlamRun run;
@@ -140,11 +142,6 @@ void sessionsMergeIntoTheFirstSessionsReferential(const std::string& folder, con
   EXPECT_LT(test::nodeAte(poses, run.groundTruth), 1.25 * *std::max_element(odomAte.begin(), odomAte.end()) + 0.05);
   EXPECT_LT(test::worstLinkError(reopened.allLinks(), run.groundTruth, {Link::kGlobalClosure}), 0.25);
   reopened.close();
-}
-
-TEST(SimSlam, SessionsMergeIntoTheFirstSessionsReferential) {
-  REQUIRE_SIM(folder, "multisession");
-  sessionsMergeIntoTheFirstSessionsReferential(folder, test::simSlamParameters());
 }
 
 // Without RGBD/MaxLoopClosureDistance the true closures after session 3's wrong merge are
