@@ -2,7 +2,8 @@
 // simulator, with exact ground truth (the loop-closure issue's "How it is shown"):
 //  - scenarios `loop` and `multisession` (three sessions, one memory) at 1 image per second:
 //    precision at default parameters and the recall at 100% precision (rtabmap-eval pr, a loop
-//    = views within 2 m and 30 degrees, at least 10 images apart);
+//    = views within 2 m and 30 degrees, at least 10 images apart), then the same with the
+//    epipolar verification of hypotheses (VhEp/Enabled true);
 //  - scenario `long` (two hours, 1 Hz, images only) with Rtabmap/TimeThr 100 ms and 0: update
 //    time percentiles after the budget is first exceeded (goal: p99 <= 1.2 x TimeThr), the
 //    largest Working Memory, loop closures accepted in the second hour (revisits found through
@@ -122,13 +123,18 @@ int main(int argc, char** argv) {
   try {
     for (const std::string scenario : {"loop", "multisession"}) {
       const auto inputs = simulate(scenario, work / ("sim_" + scenario), "--rate 1");
-      const fs::path out = work / ("console_" + scenario);
-      const Json c = console(inputs, out, "");
-      const Json pr = scorePr(out);
-      std::cout << scenario << ": " << c["images"] << " images, " << c["loop_closures"] << " loop closures accepted; "
-                << "precision " << pr["precision"] << " (" << pr["false_positives"] << " false), recall "
-                << pr["recall"] << ", recall at 100% precision " << pr["recall_at_100_precision"] << std::endl;
-      result[scenario] = {{"images", c["images"]}, {"loop_closures", c["loop_closures"]}, {"pr", pr}};
+      // Default parameters, then with the epipolar verification of appearance-only mapping.
+      for (const bool vhEp : {false, true}) {
+        const fs::path out = work / ("console_" + scenario + (vhEp ? "_vhep" : ""));
+        const Json c = console(inputs, out, vhEp ? "--VhEp/Enabled true" : "");
+        const Json pr = scorePr(out);
+        std::cout << scenario << (vhEp ? " (VhEp/Enabled true)" : "") << ": " << c["images"] << " images, "
+                  << c["loop_closures"] << " loop closures accepted; precision " << pr["precision"] << " ("
+                  << pr["false_positives"] << " false), recall " << pr["recall"] << ", recall at 100% precision "
+                  << pr["recall_at_100_precision"] << std::endl;
+        result[scenario + (vhEp ? "_vhep" : "")] = {
+            {"images", c["images"]}, {"loop_closures", c["loop_closures"]}, {"pr", pr}};
+      }
     }
     if (runLong) {
       const auto inputs =

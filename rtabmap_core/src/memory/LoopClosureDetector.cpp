@@ -20,6 +20,7 @@ LoopClosureDetectorOptions LoopClosureDetectorOptions::fromParameters(const Para
   o.memory = MemoryOptions::fromParameters(p);
   o.bayes = bayes::BayesFilterOptions::fromParameters(p);
   o.hypothesis = bayes::HypothesisOptions::fromParameters(p);
+  o.epipolar = EpipolarCheckOptions::fromParameters(p);
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
   return o;
@@ -30,7 +31,7 @@ bool LoopClosureDetectorOptions::IsValid(std::string* why) const {
     if (why) *why = Parameters::kRtabmapTimeThr() + " and " + Parameters::kRtabmapMemoryThr() + " must be >= 0";
     return false;
   }
-  return memory.IsValid(why) && bayes.IsValid(why) && hypothesis.IsValid(why);
+  return memory.IsValid(why) && bayes.IsValid(why) && hypothesis.IsValid(why) && epipolar.IsValid(why);
 }
 
 LoopClosureDetector::LoopClosureDetector(const LoopClosureDetectorOptions& options, db::Database* ltm)
@@ -45,7 +46,7 @@ LoopClosureUpdate LoopClosureDetector::process(const LocationInput& input, bool 
   const size_t vocabularyAtStart = memory_.vocabulary().size();
   const AddResult added = addLocation(input, u);
   detect(added.id, u, keepPosterior);
-  if (u.highest.accepted) {
+  if (verifyEpipolar(added.id, u)) {
     acceptLoopClosure(Link(added.id, u.highest.id, Link::kGlobalClosure, Transform::Identity()));
     u.loopClosureId = u.highest.id;
   }
@@ -85,6 +86,20 @@ void LoopClosureDetector::detect(int id, LoopClosureUpdate& u, bool keepPosterio
   previousHypothesisValue_ = u.highest.value;
   if (keepPosterior) u.posterior = bayes::toMap(posterior);
   u.hypothesisMs = msSince(t);
+}
+
+bool LoopClosureDetector::verifyEpipolar(int id, LoopClosureUpdate& u) const {
+  if (!options_.epipolar.enabled || !u.highest.accepted) return u.highest.accepted;
+  const Signature* query = memory_.signature(id);
+  const Signature* candidate = memory_.signature(u.highest.id);
+  if (!query || !candidate) return u.highest.accepted;  // detect() only proposes locations in RAM
+  const EpipolarCheckSummary check = checkEpipolarGeometry(*query, *candidate, options_.epipolar);
+  u.epipolarInliers = check.inliers;
+  if (!check.accepted) {
+    u.highest.accepted = false;
+    u.highest.rejectedBecause = check.Summary();
+  }
+  return u.highest.accepted;
 }
 
 void LoopClosureDetector::acceptLoopClosure(const Link& link) {

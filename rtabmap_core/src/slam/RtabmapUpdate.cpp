@@ -138,14 +138,15 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     if (options.neighborLinkRefining && !firstOfMap) refineNeighborLink(newId);
   }
 
-  // --- loop closure detection, verified by registration in metric SLAM ---
+  // --- loop closure detection, verified by registration in metric SLAM, else by epipolar
+  // geometry (VhEp/Enabled) ---
   detector->detect(newId, u, true);
   std::vector<Link> newLinks;
   if (u.highest.accepted) {
     std::optional<Link> link, refusedForJump;
     if (options.metric) {
       link = verifyLoopClosure(newId, u.highest.id, true, &refusedForJump);
-    } else {
+    } else if (detector->verifyEpipolar(newId, u)) {
       link = Link(newId, u.highest.id, Link::kGlobalClosure, Transform::Identity());
     }
     if (link) {

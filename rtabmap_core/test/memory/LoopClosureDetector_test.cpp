@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "MemoryTestPlaces.h"
 #include "common/TestData.h"
 #include "rtabmap_core/db/Database.h"
@@ -68,6 +70,59 @@ TEST(LoopClosureDetector, BoundedWorkingMemoryStillClosesLoopsThroughRetrieval) 
   // Revisited places in LTM are recognised once a weighted place of the area (kept in WM)
   // brings its neighbours back.
   EXPECT_GE(run.accepted, run.revisits / 2);
+}
+
+// A view of place p whose keypoints are its 100 points (3-8 m ahead) projected from a camera
+// moved by `visit` (f 500, 640 x 480); an alias has the place's words where another scene would
+// put them (the keypoints shuffled), as a building's repeated rooms look to a bag of words.
+LocationInput geometricView(int place, int visit, bool alias) {
+  LocationInput in = view(place, visit, 100, 15);
+  cv::RNG rng(static_cast<uint64_t>(500 + place));
+  const float yaw = 0.05f * static_cast<float>(visit), c = std::cos(yaw), s = std::sin(yaw);
+  for (auto& kp : in.keypoints) {
+    const float x = rng.uniform(-2.5f, 2.5f), y = rng.uniform(-1.8f, 1.8f), z = rng.uniform(3.f, 8.f);
+    const float cx = c * x + s * z + 0.2f * static_cast<float>(visit), cz = -s * x + c * z - 0.3f * static_cast<float>(visit);
+    kp.pt = {500.f * cx / cz + 320.f, 500.f * y / cz + 240.f};
+  }
+  if (alias) std::shuffle(in.keypoints.begin(), in.keypoints.end(), std::mt19937(static_cast<unsigned>(place)));
+  return in;
+}
+
+struct RevisitResult {
+  int accepted = 0, correct = 0, refusedByEpipolarGeometry = 0;
+};
+
+// Places 1..40, then places 10..25 again, as true views or as aliases.
+RevisitResult revisit(bool epipolarCheck, bool alias) {
+  LoopClosureDetector d(LoopClosureDetectorOptions::fromParameters({{"VhEp/Enabled", epipolarCheck ? "true" : "false"}}),
+                        nullptr);
+  std::map<int, int> placeOf;
+  for (int p = 1; p <= 40; ++p) placeOf[d.process(geometricView(p, 0, false)).id] = p;
+  RevisitResult r;
+  for (int p = 10; p <= 25; ++p) {
+    const auto u = d.process(geometricView(p, 1, alias));
+    if (u.loopClosureId) {
+      ++r.accepted;
+      r.correct += placeOf[u.loopClosureId] == p;
+    }
+    r.refusedByEpipolarGeometry += u.highest.rejectedBecause.find("epipolar") != std::string::npos;
+  }
+  return r;
+}
+
+TEST(LoopClosureDetector, EpipolarCheckKeepsTrueRevisits) {
+  const RevisitResult r = revisit(true, false);
+  EXPECT_GE(r.accepted, 14);  // of 16: the first revisits build up the posterior
+  EXPECT_EQ(r.correct, r.accepted);
+  EXPECT_EQ(r.refusedByEpipolarGeometry, 0);
+}
+
+TEST(LoopClosureDetector, EpipolarCheckRefusesAliasesTheBagOfWordsAccepts) {
+  const RevisitResult without = revisit(false, true);
+  EXPECT_GE(without.accepted, 14) << "the words alone cannot tell an alias";
+  const RevisitResult with = revisit(true, true);
+  EXPECT_EQ(with.accepted, 0);
+  EXPECT_GE(with.refusedByEpipolarGeometry, 14);
 }
 
 TEST(LoopClosureDetector, TimingsAndSizesAreReported) {

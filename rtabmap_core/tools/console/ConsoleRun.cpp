@@ -37,7 +37,7 @@ class RunOutput {
     detections_.open(report.detectionsPath);
     if (!log_ || !detections_) throw Error("cannot write in " + dir);
     log_ << "# image location loop_id highest_id highest_value wm_size vocabulary_size update_ms\n";
-    detections_ << "# image matched_image value (highest hypothesis of each image)\n";
+    detections_ << "# image matched_image value (highest hypothesis of each image; value 0 when VhEp refused it)\n";
   }
 
   void add(int image, const DatasetRecord& record, const memory::LoopClosureUpdate& u) {
@@ -45,7 +45,10 @@ class RunOutput {
     log_ << image << ' ' << u.id << ' ' << imageOf(u.loopClosureId) << ' ' << imageOf(u.highest.id) << ' '
          << u.highest.value << ' ' << u.wmSize << ' ' << u.vocabularySize << ' ' << std::fixed << std::setprecision(2)
          << u.totalMs << std::defaultfloat << '\n';
-    const LoopDetection d{image, imageOf(u.highest.id), u.highest.value};
+    // A hypothesis the epipolar check (VhEp) refused is no detection, whatever its probability:
+    // the verification is part of the detector when enabled.
+    const bool refused = u.epipolarInliers >= 0 && !u.highest.accepted;
+    const LoopDetection d{image, imageOf(u.highest.id), refused ? 0.f : u.highest.value};
     detections_ << d.queryId << ' ' << d.matchedId << ' ' << d.confidence << '\n';
     found_.push_back(d);
     // The ground truth of each image, in image order, when the dataset has it: the poses file

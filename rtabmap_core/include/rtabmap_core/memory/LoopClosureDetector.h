@@ -13,6 +13,7 @@
 
 #include "rtabmap_core/bayes/BayesFilter.h"
 #include "rtabmap_core/bayes/Likelihood.h"
+#include "rtabmap_core/memory/EpipolarCheck.h"
 #include "rtabmap_core/memory/Memory.h"
 
 namespace rtabmap::memory {
@@ -23,6 +24,7 @@ struct LoopClosureDetectorOptions {
   MemoryOptions memory;
   bayes::BayesFilterOptions bayes;
   bayes::HypothesisOptions hypothesis;
+  EpipolarCheckOptions epipolar;  // VhEp/*: appearance-only verification
 
   static LoopClosureDetectorOptions fromParameters(const ParametersMap& parameters);
   bool IsValid(std::string* why = nullptr) const;
@@ -33,6 +35,7 @@ struct LoopClosureUpdate {
   bool merged = false;        // rehearsal merged it into the previous location
   int loopClosureId = 0;      // accepted loop closure (0: none)
   bayes::Hypothesis highest;  // highest hypothesis, accepted or not
+  int epipolarInliers = -1;   // the epipolar check's inliers (-1: not checked)
   std::vector<int> retrieved, transferred;
   int words = 0, newWords = 0, wmSize = 0, stmSize = 0, vocabularySize = 0;
   // Timings (ms), the names of the original's statistics.
@@ -47,7 +50,7 @@ class LoopClosureDetector {
   LoopClosureDetector(const LoopClosureDetectorOptions& options, db::Database* ltm);
 
   // The whole of Algorithm 1 (appearance only): the stages below in order, a selected
-  // hypothesis linked at once (identity transform).
+  // hypothesis verified by epipolar geometry if VhEp/Enabled, then linked (identity transform).
   LoopClosureUpdate process(const LocationInput& input, bool keepPosterior = false);
 
   // --- The stages of process(), for the SLAM pipeline, which verifies a hypothesis by
@@ -59,6 +62,10 @@ class LoopClosureDetector {
   // (no link is made). Fills u.highest, the timings and the posterior if asked. Nothing happens
   // for a bad signature or an empty WM (u.highest stays empty).
   void detect(int id, LoopClosureUpdate& u, bool keepPosterior);
+  // Appearance-only verification of an accepted hypothesis (VhEp/Enabled; nothing otherwise):
+  // a refused one is no longer accepted and says why in u.highest.rejectedBecause. Returns
+  // u.highest.accepted.
+  bool verifyEpipolar(int id, LoopClosureUpdate& u) const;
   // An accepted loop closure is linked: the weight rule and the filter's neighbourhood.
   void acceptLoopClosure(const Link& link);
   // Links were added or removed around these locations (proximity, rejected links): the
