@@ -34,7 +34,7 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$root/rtabmap_core" -B "$build" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER="$cxx" \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=$san" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=$san" \
-  -DRTABMAP_CORE_BUILD_BENCH=OFF "${launcher[@]}" >/dev/null
+  -DRTABMAP_CORE_BUILD_BENCH=OFF -DRTABMAP_CORE_TEST_TIMEOUT=1800 "${launcher[@]}" >/dev/null
 echo "$flags" > "$build/sanitizer-flags"
 if [[ "$what" == library ]]; then
   cmake --build "$build" --target rtabmap_core -- -j"$jobs"
