@@ -7,7 +7,9 @@
 // Why words seen once: a repeated word (tiled floor, brick wall, ceiling grid) cannot say which
 // of its keypoints goes with which, and such texture is what makes two different places look
 // alike to the bag of words. A true revisit keeps its posters, doors and furniture, each a word
-// seen once, in a geometry one camera motion explains.
+// seen once, in a geometry one camera motion explains. What it cannot refuse: a scene that
+// repeats with a period (a tiled floor seen a whole number of tiles further along a corridor puts
+// the same words at the same pixels, which a fundamental matrix fits).
 //
 // Appearance-only mapping uses it (no registration checks the hypothesis there); metric SLAM
 // verifies by registration, which implies this test.
@@ -45,8 +47,7 @@ struct EpipolarCheckSummary {
 // fit, fewer than matchCountMin inliers, or inliers under inlierRatioMin of the pairs: refused.
 // The ratio matters because F has 7 degrees of freedom: RANSAC's best F over unrelated pairs
 // agrees with its 7-pair sample and a few more (10 of 40, 13 of 120 in the tests), which the
-// classic count alone accepts. Locations without keypoints are refused
-// (nothing to verify with).
+// classic count alone accepts. Locations without keypoints are refused (nothing to verify with).
 EpipolarCheckSummary checkEpipolarGeometry(const Signature& query, const Signature& candidate,
                                            const EpipolarCheckOptions& options);
 
