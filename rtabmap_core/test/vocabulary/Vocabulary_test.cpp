@@ -58,8 +58,13 @@ TEST_P(VocabularyStrategies, SameDescriptorsMapToTheSameWordsFarOnesMakeNewWords
   cv::vconcat(first.rowRange(0, 100), type == CV_32F ? randomFloat(50, 64, 2) : randomBinary(50, 32, 2), second);
   auto ids2 = v.quantize(second, 2);
   for (int i = 0; i < 100; ++i) EXPECT_EQ(ids2[i], ids1[i]) << "row " << i;
-  for (int i = 100; i < 150; ++i) EXPECT_GT(ids2[i], 200) << "row " << i;
-  EXPECT_EQ(v.size(), 250u);
+  // LSH sees only the candidates of its buckets, already closer than random ones: now and then
+  // (FLANN draws its hash tables from std::random_device) two of them pass the ratio test for a
+  // far descriptor. Every other index finds the true two nearest here.
+  int newWords = 0;
+  for (int i = 100; i < 150; ++i) newWords += ids2[i] > 200;
+  EXPECT_GE(newWords, strategy == NNStrategy::kLsh ? 48 : 50);
+  EXPECT_EQ(v.size(), 200u + static_cast<size_t>(newWords));
   EXPECT_EQ(v.word(ids1[0])->references.at(1), 1);
   EXPECT_EQ(v.word(ids1[0])->references.at(2), 1);
   EXPECT_EQ(v.word(ids1[150])->references.count(2), 0u);
