@@ -88,6 +88,13 @@ void lidar(const fs::path& data, const fs::path& work, Json& result) {
                 << " deg, wheel odometry " << odom["translation"]["mean"] << " m / " << odom["rotation_deg"]["mean"]
                 << " deg; goal mean translation <= 0.035 m (Cartographer 0.0375): " << (t <= 0.035 ? "met" : "NOT met")
                 << std::endl;
+      // Local relations (scans at most 5 s apart) are what the neighbour links decide, loop ones
+      // what loop closure decides: the mean above mixes both.
+      std::cout << "    local (" << slam["local"]["translation"]["count"] << "): SLAM "
+                << slam["local"]["translation"]["mean"] << " m, wheel odometry " << odom["local"]["translation"]["mean"]
+                << " m; loop (" << slam["loop"]["translation"]["count"] << "): SLAM "
+                << slam["loop"]["translation"]["mean"] << " m, wheel odometry " << odom["loop"]["translation"]["mean"]
+                << " m" << std::endl;
       entry["relations_slam"] = slam;
       entry["relations_odom"] = odom;
     }

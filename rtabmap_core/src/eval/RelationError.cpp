@@ -42,6 +42,7 @@ RelationResult computeRelationError(const Trajectory& estimate, const std::vecto
   if (!sorted.isSorted()) sorted.sortByStamp();
   RelationResult r;
   r.relations = relations.size();
+  std::vector<double> localT, localR, loopT, loopR;
   for (size_t k = 0; k < relations.size(); ++k) {
     const Relation& rel = relations[k];
     const long i = sorted.nearest(rel.stamp1, options.maxTimeDifference);
@@ -56,6 +57,11 @@ RelationResult computeRelationError(const Trajectory& estimate, const std::vecto
     const Transform error = rel.pose.inverse() * delta;
     r.translationErrors.push_back(error.getNorm());
     r.rotationErrors.push_back(error.getAngle() * 180.0 / M_PI);
+    if (options.localSpan > 0.0) {
+      const bool local = std::fabs(rel.stamp2 - rel.stamp1) <= options.localSpan;
+      (local ? localT : loopT).push_back(r.translationErrors.back());
+      (local ? localR : loopR).push_back(r.rotationErrors.back());
+    }
   }
   r.used = r.translationErrors.size();
   r.skipped = r.skippedRelations.size();
@@ -80,6 +86,10 @@ RelationResult computeRelationError(const Trajectory& estimate, const std::vecto
   r.rotation = computeErrorStats(r.rotationErrors);
   r.translationSquaredMean = r.translation.rmse * r.translation.rmse;
   r.rotationSquaredMean = r.rotation.rmse * r.rotation.rmse;
+  r.localTranslation = computeErrorStats(localT);  // count 0 when a side is empty
+  r.localRotation = computeErrorStats(localR);
+  r.loopTranslation = computeErrorStats(loopT);
+  r.loopRotation = computeErrorStats(loopR);
   return r;
 }
 

@@ -69,6 +69,33 @@ TEST(RelationError, ByHand) {
   EXPECT_EQ(rtabmap::computeRelationError(shifted, relations, tight).used, 2u);
 }
 
+// Local (short in time) and loop relations are scored apart as well as together.
+TEST(RelationError, LocalAndLoopRelationsApart) {
+  TempDir dir;
+  writeText(dir.file("r.relations"),
+            "1.0 2.0 1 0 0 0 0 1.5707963267948966\n"  // 1 s apart, exact
+            "2.0 3.0 1 0.1 0 0 0 0.05\n"              // 1 s apart, 0.1 m / 0.05 rad off
+            "1.0 3.0 1 1.3 0 0 0 1.5707963267948966\n");  // 2 s apart, 0.3 m off
+  const std::vector<Relation> relations = rtabmap::readRelations(dir.file("r.relations"));
+  rtabmap::RelationOptions options;
+  options.localSpan = 1.5;
+  const rtabmap::RelationResult r = rtabmap::computeRelationError(estimate(), relations, options);
+  ASSERT_EQ(r.used, 3u);
+  EXPECT_EQ(r.localTranslation.count, 2u);
+  EXPECT_NEAR(r.localTranslation.mean, 0.05, 1e-12);
+  EXPECT_NEAR(r.localRotation.max, 0.05 * 180 / M_PI, 1e-9);
+  EXPECT_EQ(r.loopTranslation.count, 1u);
+  EXPECT_NEAR(r.loopTranslation.mean, 0.3, 1e-12);
+  EXPECT_NEAR(r.loopRotation.mean, 0.0, 1e-9);
+  EXPECT_NEAR(r.translation.mean, 0.4 / 3, 1e-12);  // the whole is unchanged by the split
+
+  options.localSpan = 2.0;  // the span is inclusive
+  EXPECT_EQ(rtabmap::computeRelationError(estimate(), relations, options).localTranslation.count, 3u);
+  options.localSpan = 0.0;  // no split
+  const rtabmap::RelationResult none = rtabmap::computeRelationError(estimate(), relations, options);
+  EXPECT_EQ(none.localTranslation.count + none.loopTranslation.count, 0u);
+}
+
 TEST(RelationError, RelationsAreFrameIndependent) {
   // The same estimate moved anywhere in the world scores the same.
   TempDir dir;

@@ -237,6 +237,10 @@ int relations(int argc, char** argv) {
   cli.addOption("est", "FILE", "Estimated trajectory, one pose per scan.");
   cli.addOption("format", "FORMAT", std::string("Format of the estimate: ") + kTrajectoryFormats + ".", "auto");
   cli.addOption("max-dt", "SECONDS", "Largest difference between a relation stamp and a pose stamp.", "0.001");
+  cli.addOption("local-span", "SECONDS",
+                "Relations at most this long in time are also scored apart as local (odometry, neighbour "
+                "links), the longer ones as loop (revisits). 0 = no split.",
+                "5");
   cli.addNote("Example: rtabmap-eval trajectory --dataset carmen --input data/radish/aces.clf.bz2 "
               "--output odom.txt && rtabmap-eval relations --relations data/radish/aces.relations --est odom.txt");
   if (auto code = cli.parse(argc, argv)) return *code;
@@ -252,6 +256,7 @@ int relations(int argc, char** argv) {
   const Trajectory est = readTrajectory(cli.option("est"), format);
   RelationOptions options;
   options.maxTimeDifference = positiveOption(cli, "max-dt", true);
+  options.localSpan = positiveOption(cli, "local-span", true);
   const RelationResult r = computeRelationError(est, rel, options);
   std::cout << "relations: " << r.used << " of " << r.relations << " used, " << r.skipped
             << " skipped (no estimated pose within " << options.maxTimeDifference << " s of a stamp)\n";
@@ -261,6 +266,15 @@ int relations(int argc, char** argv) {
   std::cout << "rotational error:    " << fixed(r.rotation.mean, 4) << " +/- " << fixed(r.rotation.std, 4)
             << " deg (squared mean " << fixed(r.rotationSquaredMean, 4) << " deg^2, max "
             << fixed(r.rotation.max, 4) << " deg)\n";
+  if (options.localSpan > 0.0) {
+    const auto split = [&](const std::string& what, const ErrorStats& t, const ErrorStats& a) {
+      std::cout << what << fixed(options.localSpan, 1) << " s, " << t.count << "): " << fixed(t.mean, 4)
+                << " +/- " << fixed(t.std, 4) << " m, " << fixed(a.mean, 4) << " +/- " << fixed(a.std, 4)
+                << " deg\n";
+    };
+    split("local relations (at most ", r.localTranslation, r.localRotation);
+    split("loop relations (over ", r.loopTranslation, r.loopRotation);
+  }
   if (cli.json()) {
     printJsonLine({{"command", "relations"},
                    {"relations_file", cli.option("relations")},
@@ -271,7 +285,12 @@ int relations(int argc, char** argv) {
                    {"translation", statsJson(r.translation)},
                    {"rotation_deg", statsJson(r.rotation)},
                    {"translation_squared_mean", r.translationSquaredMean},
-                   {"rotation_squared_mean_deg2", r.rotationSquaredMean}});
+                   {"rotation_squared_mean_deg2", r.rotationSquaredMean},
+                   {"local_span", options.localSpan},
+                   {"local", {{"translation", statsJson(r.localTranslation)},
+                              {"rotation_deg", statsJson(r.localRotation)}}},
+                   {"loop", {{"translation", statsJson(r.loopTranslation)},
+                             {"rotation_deg", statsJson(r.loopRotation)}}}});
   }
   return kExitSuccess;
 }

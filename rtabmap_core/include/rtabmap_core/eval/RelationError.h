@@ -37,6 +37,11 @@ struct RelationOptions {
   // nearest one). The metric needs a pose at every relation stamp: a SLAM run must output one
   // per input scan (see ../shared/data/README.md).
   double maxTimeDifference = 1e-3;
+  // Relations whose stamps are at most this many seconds apart are "local" (what odometry and
+  // the neighbour links decide), the others "loop" (revisits: what loop closure decides). The
+  // mean of all mixes the two, and an ACES run whose loops all close can still lose to raw wheel
+  // odometry on the local ones. <= 0: no split.
+  double localSpan = 5.0;
 };
 
 struct RelationResult {
@@ -47,6 +52,9 @@ struct RelationResult {
   ErrorStats rotation;     // degrees
   double translationSquaredMean = 0.0;  // m^2, the paper's epsilon_trans
   double rotationSquaredMean = 0.0;     // deg^2
+  // The split of RelationOptions::localSpan (empty stats when a side has no relation).
+  ErrorStats localTranslation, localRotation;  // m, deg
+  ErrorStats loopTranslation, loopRotation;    // m, deg
   std::vector<double> translationErrors;  // per used relation, in input order
   std::vector<double> rotationErrors;     // degrees
   std::vector<size_t> skippedRelations;   // indices in the input of the skipped ones
