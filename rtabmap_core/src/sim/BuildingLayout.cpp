@@ -191,6 +191,7 @@ void validate(const BuildingSpec& s) {
   if (!(s.doorMinWidth >= 0.8 && s.doorMaxWidth >= s.doorMinWidth)) fail("door widths");
   if (s.materialSize < 16 || (s.materialSize & (s.materialSize - 1))) fail("materialSize must be a power of two >= 16");
   if (!(s.materialTexelsPerMetre > 0 && s.decalTexelsPerMetre > 0)) fail("texel densities must be > 0");
+  if (s.materialVariants < 1 || s.materialVariants > 64) fail("materialVariants must be in [1, 64]");
 }
 
 }  // namespace

@@ -13,7 +13,8 @@ std::vector<int> addMaterials(World& world, const BuildingSpec& spec, MaterialKi
   std::vector<int> ids;
   for (int i = 0; i < count; ++i) {
     const MaterialSpec m = randomMaterialSpec(kind, rng);
-    ids.push_back(world.addTexture(makeMaterialTexture(m, spec.materialSize, spec.materialTexelsPerMetre)));
+    const int variants = variesPerTile(kind) ? spec.materialVariants : 1;
+    ids.push_back(world.addTexture(makeMaterialTexture(m, spec.materialSize, spec.materialTexelsPerMetre, variants)));
   }
   return ids;
 }

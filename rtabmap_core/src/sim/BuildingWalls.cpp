@@ -65,6 +65,9 @@ void buildWalls(Context& ctx) {
         longSide[static_cast<size_t>(e)] = isLong;
         SurfaceMaterial m;
         m.shade = faceShade(normal);
+        // Tile variants: one key per wall line and side, so the pieces of a line continue.
+        m.variantKey = hash2D(static_cast<int32_t>(std::lround(line.c * 1000.0)),
+                              directionIndex(normal) + (line.vertical ? 4 : 0), 0x3c6ef372u);
         if (isLong) {
           const int area = ctx.areaAt(mid.x() + normal.x() * (h + 0.05), mid.y() + normal.y() * (h + 0.05));
           sideArea[static_cast<size_t>(e)] = area;

@@ -1,6 +1,12 @@
 // Material generators. Each material is a function colour(x, y) of the position on the tile in
 // metres, evaluated at every texel; every repeating feature (bricks, planks, tiles, books) uses
 // a whole number of repeats per tile, so the tile wraps without a seam.
+//
+// Variants (Tile::variant, 0 = the plain tile): the same structure (courses, joints, grout,
+// grid) with other random draws inside it: noise lattices and cellular points through
+// Procedural.h's variant rule (the border's values are shared, so variants meet seamlessly),
+// and per-unit shades through Tile::unitSeed. A unit that straddles the tile's border (column 0
+// of a staggered course) keeps variant 0's draws, or its two halves would differ.
 #include "rtabmap_core/sim/Materials.h"
 
 #include <opencv2/core.hpp>
@@ -25,6 +31,7 @@ constexpr float kTwoPi = 6.28318530718f;
 struct Tile {
   float period;
   uint32_t seed;
+  uint32_t variant = 0;
   // Repeats of a feature of about `size` metres in one tile (at least 1; `even` for patterns
   // that alternate, like staggered brick rows).
   int repeats(float size, bool even = false) const {
@@ -32,12 +39,20 @@ struct Tile {
     if (even && (n % 2)) n += 1;
     return n;
   }
-  // Fractal noise whose finest features are about cellX by cellY metres.
-  float noise(float x, float y, float cellX, float cellY, int octaves, uint32_t salt) const {
+  // Fractal noise whose finest features are about cellX by cellY metres (this variant's, or
+  // variant 0's when not `varied`).
+  float noise(float x, float y, float cellX, float cellY, int octaves, uint32_t salt, bool varied = true) const {
     const int nx = repeats(cellX);
     const int ny = repeats(cellY);
-    return fbm(x * nx / period, y * ny / period, octaves, nx, ny, seed ^ salt);
+    return fbm(x * nx / period, y * ny / period, octaves, nx, ny, seed ^ salt, 0.5f, varied ? variant : 0u);
   }
+  // Cellular pattern with `cells` cells per tile, this variant's.
+  float cells(float x, float y, int count, uint32_t salt, uint32_t* cellHash) const {
+    return cellular(x * count / period, y * count / period, count, seed ^ salt, cellHash, variant);
+  }
+  // Seed of the per-unit draws (a brick's shade, a tile's tint): this variant's, or variant 0's
+  // for a unit `shared` with the next tile.
+  uint32_t unitSeed(bool shared = false) const { return shared ? seed : variantSeed(1, 1, seed, variant); }
 };
 
 Colour scaled(const Colour& c, float k) { return c * k; }
@@ -86,7 +101,7 @@ TexelFunction brick(const MaterialSpec& m, const Tile& tile) {
     const Course c = course(x, y, w, h, cols, rows);
     const float grain = tile.noise(x, y, 0.02f, 0.02f, 2, 3);
     if (c.lx < mortar || c.ly < mortar) return scaled(m.accent, 0.88f + 0.2f * grain);
-    const uint32_t id = hash2D(c.col, c.row, tile.seed);
+    const uint32_t id = hash2D(c.col, c.row, tile.unitSeed(c.col == 0));  // column 0 straddles the border
     Colour b = scaled(m.colour, 0.74f + 0.42f * hashUnit(id));
     b[0] *= 0.9f + 0.2f * hashUnit(id * 7u + 1u);  // a little hue drift between bricks
     const float edge = std::min({c.lx - mortar, w - c.lx, c.ly - mortar, h - c.ly});
@@ -106,10 +121,9 @@ TexelFunction blocks(const MaterialSpec& m, const Tile& tile) {
     const Course c = course(x, y, w, h, cols, rows);
     if (c.lx < joint || c.ly < joint) return scaled(m.accent, 0.95f);
     uint32_t cell = 0;
-    const float d = cellular(x * poreCells / tile.period, y * poreCells / tile.period, poreCells,
-                             tile.seed ^ 5u, &cell);
+    const float d = tile.cells(x, y, poreCells, 5u, &cell);
     const float pore = (d < 0.16f && hashUnit(cell) < 0.35f) ? 0.72f : 1.0f;
-    const float shade = 0.94f + 0.08f * hashUnit(hash2D(c.col, c.row, tile.seed));
+    const float shade = 0.94f + 0.08f * hashUnit(hash2D(c.col, c.row, tile.unitSeed(c.col == 0)));
     return scaled(m.colour, shade * pore * (0.95f + 0.08f * tile.noise(x, y, 0.05f, 0.05f, 2, 6)));
   };
 }
@@ -123,8 +137,10 @@ TexelFunction woodPanels(const MaterialSpec& m, const Tile& tile) {
     const int p = static_cast<int>(std::floor(x / w));
     const float lx = x - p * w;
     if (lx < 0.008f) return scaled(m.accent, 0.45f);
+    // A plank runs on into the next tile: its colour is shared, its joints are the variant's.
     const uint32_t id = hash2D(wrapi(p, planks), 0, tile.seed);
-    const float jointOffset = hashUnit(id) * jointPitch;
+    // No joint on the tile's border, where the next tile (another variant) would not go on with it.
+    const float jointOffset = 0.01f + hashUnit(hash2D(wrapi(p, planks), 0, tile.unitSeed())) * (jointPitch - 0.02f);
     if (wrapf(y + jointOffset, jointPitch) < 0.008f) return scaled(m.accent, 0.5f);
     const float warp = tile.noise(x, y, 0.04f, 0.5f, 3, 7);
     const float rings = 0.5f + 0.5f * std::sin(kTwoPi * (lx / w * 4.0f + 5.0f * warp));
@@ -182,7 +198,7 @@ TexelFunction wallTiles(const MaterialSpec& m, const Tile& tile) {
     const float lx = x - tx * cell;
     const float ly = y - ty * cell;
     if (lx < 0.009f || ly < 0.009f) return m.accent;
-    const uint32_t id = hash2D(wrapi(tx, n), wrapi(ty, n), tile.seed);
+    const uint32_t id = hash2D(wrapi(tx, n), wrapi(ty, n), tile.unitSeed());
     const Colour base = hashUnit(id) < 0.07f ? mixColour(m.colour, hsv(hashUnit(id * 5u) * 360.0f, 0.5f, 0.6f), 0.7f)
                                              : m.colour;
     const float glaze = 0.96f + 0.08f * (1.0f - (lx + ly) / (2.0f * cell));
@@ -196,16 +212,17 @@ TexelFunction concrete(const MaterialSpec& m, const Tile& tile) {
   const float tiePitch = tile.period / ties;
   const int seams = tile.repeats(1.2f);
   const float seamPitch = tile.period / seams;
+  // Vertical seams about every second horizontal one, a whole number per tile as well.
+  const float panelPitch = tile.period / tile.repeats(2.0f * seamPitch);
   return [=](float x, float y) {
     float k = 0.78f + 0.4f * tile.noise(x, y, 0.06f, 0.06f, 5, 9);
     uint32_t cell = 0;
-    const float d = cellular(x * poreCells / tile.period, y * poreCells / tile.period, poreCells,
-                             tile.seed ^ 10u, &cell);
+    const float d = tile.cells(x, y, poreCells, 10u, &cell);
     if (d < 0.13f && hashUnit(cell) < 0.4f) k *= 0.6f;
     const float tx = wrapf(x, tiePitch) - 0.5f * tiePitch;
     const float ty = wrapf(y, tiePitch) - 0.5f * tiePitch;
     if (std::hypot(tx, ty) < 0.013f) k *= 0.35f;
-    if (wrapf(y, seamPitch) < 0.007f || wrapf(x, 2.0f * seamPitch) < 0.007f) k *= 0.7f;
+    if (wrapf(y, seamPitch) < 0.007f || wrapf(x, panelPitch) < 0.007f) k *= 0.7f;
     return scaled(m.colour, k);
   };
 }
@@ -237,10 +254,9 @@ TexelFunction carpet(const MaterialSpec& m, const Tile& tile) {
     const float along = ((tx + ty) & 1) ? lx : ly;  // pile direction alternates per tile
     const float ribs = 0.5f + 0.5f * std::sin(kTwoPi * along / (cell / std::round(cell / 0.05f)));
     uint32_t fleck = 0;
-    const float d = cellular(x * fleckCells / tile.period, y * fleckCells / tile.period, fleckCells,
-                             tile.seed ^ 13u, &fleck);
+    const float d = tile.cells(x, y, fleckCells, 13u, &fleck);
     if (d < 0.12f && hashUnit(fleck) < 0.5f) return m.accent;
-    const float tileShade = 0.95f + 0.1f * hashUnit(hash2D(wrapi(tx, n), wrapi(ty, n), tile.seed));
+    const float tileShade = 0.95f + 0.1f * hashUnit(hash2D(wrapi(tx, n), wrapi(ty, n), tile.unitSeed()));
     return scaled(m.colour, tileShade * (0.9f + 0.1f * ribs) * (0.92f + 0.16f * tile.noise(x, y, 0.02f, 0.02f, 1, 14)));
   };
 }
@@ -253,8 +269,10 @@ TexelFunction parquet(const MaterialSpec& m, const Tile& tile) {
   return [=](float x, float y) {
     const Course c = course(x, y, w, h, along, across);
     if (c.lx < 0.006f || c.ly < 0.004f) return scaled(m.accent, 0.6f);
-    const uint32_t id = hash2D(c.col, c.row, tile.seed);
-    const float grain = tile.noise(x + hashUnit(id), y, 0.6f, 0.012f, 3, 15);
+    // Column 0 straddles the border: variant 0's draws, and its grain (shifted along x, it would
+    // not meet the next tile's at the border).
+    const uint32_t id = hash2D(c.col, c.row, tile.unitSeed(c.col == 0));
+    const float grain = tile.noise(x + hashUnit(id), y, 0.6f, 0.012f, 3, 15, c.col != 0);
     const Colour base = scaled(m.colour, 0.8f + 0.35f * hashUnit(id * 3u + 1u));
     return mixColour(base, m.accent, 0.35f * grain);
   };
@@ -267,7 +285,7 @@ TexelFunction floorTiles(const MaterialSpec& m, const Tile& tile) {
     const int tx = static_cast<int>(std::floor(x / cell));
     const int ty = static_cast<int>(std::floor(y / cell));
     if (x - tx * cell < 0.01f || y - ty * cell < 0.01f) return m.accent;
-    const float shade = 0.92f + 0.16f * hashUnit(hash2D(wrapi(tx, n), wrapi(ty, n), tile.seed));
+    const float shade = 0.92f + 0.16f * hashUnit(hash2D(wrapi(tx, n), wrapi(ty, n), tile.unitSeed()));
     return scaled(m.colour, shade * (0.88f + 0.22f * tile.noise(x, y, 0.05f, 0.05f, 3, 16)));
   };
 }
@@ -276,7 +294,7 @@ TexelFunction linoleum(const MaterialSpec& m, const Tile& tile) {
   const int specks = tile.repeats(0.02f);
   return [=](float x, float y) {
     uint32_t cell = 0;
-    const float d = cellular(x * specks / tile.period, y * specks / tile.period, specks, tile.seed ^ 17u, &cell);
+    const float d = tile.cells(x, y, specks, 17u, &cell);
     const float speck = (d < 0.15f && hashUnit(cell) < 0.25f) ? (hashUnit(cell * 3u) < 0.5f ? 0.9f : 1.08f) : 1.0f;
     return scaled(m.colour, speck * (0.985f + 0.03f * tile.noise(x, y, 0.4f, 0.4f, 2, 18)));
   };
@@ -288,19 +306,23 @@ TexelFunction ceilingTiles(const MaterialSpec& m, const Tile& tile) {
   const int n = 6 * std::max(1, static_cast<int>(std::lround(tile.period / 0.6f / 6.0f)));
   const float cell = tile.period / n;
   const int fissures = tile.repeats(0.025f);
+  // Which tiles of the 3 x 2 pattern hold the lights: another choice in each of the first six
+  // variants, so the lights keep their spacing inside a tile but not from tile to tile.
+  const uint32_t phase = (4u + tile.variant) % 6u;
+  const int lightX = static_cast<int>(phase % 3u);
+  const int lightY = static_cast<int>(phase / 3u);
   return [=](float x, float y) {
     const int tx = static_cast<int>(std::floor(x / cell));
     const int ty = static_cast<int>(std::floor(y / cell));
     const float lx = x - tx * cell;
     const float ly = y - ty * cell;
     if (lx < 0.022f || ly < 0.022f) return m.accent;  // the metal T-bar grid
-    if (wrapi(tx, 3) == 1 && wrapi(ty, 2) == 1) {     // a light panel with louvres
+    if (wrapi(tx, 3) == lightX && wrapi(ty, 2) == lightY) {  // a light panel with louvres
       const bool louvre = wrapf(lx, cell / 6.0f) < 0.012f || wrapf(ly, cell / 6.0f) < 0.012f;
       return louvre ? Colour(215, 215, 215) : Colour(250, 250, 250);
     }
     uint32_t cellHash = 0;
-    const float d = cellular(x * fissures / tile.period, y * fissures / tile.period, fissures,
-                             tile.seed ^ 19u, &cellHash);
+    const float d = tile.cells(x, y, fissures, 19u, &cellHash);
     const float k = (d < 0.18f && hashUnit(cellHash) < 0.5f) ? 0.84f : 1.0f;
     return scaled(m.colour, k * (0.95f + 0.06f * tile.noise(x, y, 0.15f, 0.15f, 2, 20)));
   };
@@ -554,9 +576,28 @@ MaterialSpec randomMaterialSpec(MaterialKind kind, Rng& rng) {
   return m;
 }
 
-cv::Mat generateMaterialImage(const MaterialSpec& spec, int size, float texelsPerMetre) {
+bool variesPerTile(MaterialKind kind) {
+  switch (kind) {
+    case MaterialKind::kBrick:
+    case MaterialKind::kBlocks:
+    case MaterialKind::kWoodPanels:
+    case MaterialKind::kWallTiles:
+    case MaterialKind::kConcrete:
+    case MaterialKind::kMarble:
+    case MaterialKind::kCarpet:
+    case MaterialKind::kParquet:
+    case MaterialKind::kFloorTiles:
+    case MaterialKind::kLinoleum:
+    case MaterialKind::kCeilingTiles:
+      return true;
+    default:
+      return false;
+  }
+}
+
+cv::Mat generateMaterialImage(const MaterialSpec& spec, int size, float texelsPerMetre, int variant) {
   cv::Mat image(size, size, CV_8UC3);
-  const Tile tile{static_cast<float>(size) / texelsPerMetre, spec.seed};
+  const Tile tile{static_cast<float>(size) / texelsPerMetre, spec.seed, static_cast<uint32_t>(variant)};
   const TexelFunction colourAt = generatorFor(spec, tile);
   // Rows are independent: parallel, and still the same texels whatever the thread count.
   cv::parallel_for_(cv::Range(0, size), [&](const cv::Range& range) {
@@ -571,13 +612,15 @@ cv::Mat generateMaterialImage(const MaterialSpec& spec, int size, float texelsPe
   return image;
 }
 
-cv::Vec3f materialColourAt(const MaterialSpec& spec, float x, float y, int size, float texelsPerMetre) {
-  const Tile tile{static_cast<float>(size) / texelsPerMetre, spec.seed};
+cv::Vec3f materialColourAt(const MaterialSpec& spec, float x, float y, int size, float texelsPerMetre, int variant) {
+  const Tile tile{static_cast<float>(size) / texelsPerMetre, spec.seed, static_cast<uint32_t>(variant)};
   return generatorFor(spec, tile)(x, y);
 }
 
-Texture makeMaterialTexture(const MaterialSpec& spec, int size, float texelsPerMetre) {
-  return Texture(generateMaterialImage(spec, size, texelsPerMetre), true, texelsPerMetre);
+Texture makeMaterialTexture(const MaterialSpec& spec, int size, float texelsPerMetre, int variants) {
+  std::vector<cv::Mat> images;
+  for (int v = 0; v < std::max(1, variants); ++v) images.push_back(generateMaterialImage(spec, size, texelsPerMetre, v));
+  return Texture(images, true, texelsPerMetre, spec.seed);
 }
 
 }  // namespace rtabmap::sim

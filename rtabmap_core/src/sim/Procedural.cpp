@@ -7,7 +7,9 @@
 namespace rtabmap::sim {
 
 namespace {
-inline float lattice(int x, int y, uint32_t seed) { return hashUnit(hash2D(x, y, seed)); }
+inline float lattice(int x, int y, uint32_t seed, uint32_t variant) {
+  return hashUnit(hash2D(x, y, variantSeed(x, y, seed, variant)));
+}
 // Floor without a libm call.
 inline int floorInt(float x) {
   const int i = static_cast<int>(x);
@@ -15,7 +17,7 @@ inline int floorInt(float x) {
 }
 }  // namespace
 
-float valueNoise(float x, float y, int px, int py, uint32_t seed) {
+float valueNoise(float x, float y, int px, int py, uint32_t seed, uint32_t variant) {
   const int ix = floorInt(x);
   const int iy = floorInt(y);
   float tx = x - static_cast<float>(ix);
@@ -28,19 +30,19 @@ float valueNoise(float x, float y, int px, int py, uint32_t seed) {
   // Quintic fade: continuous second derivative, no grid-aligned creases for GFTT to pick up.
   tx = tx * tx * tx * (tx * (tx * 6.0f - 15.0f) + 10.0f);
   ty = ty * ty * ty * (ty * (ty * 6.0f - 15.0f) + 10.0f);
-  const float a = lattice(x0, y0, seed);
-  const float b = lattice(x1, y0, seed);
-  const float c = lattice(x0, y1, seed);
-  const float d = lattice(x1, y1, seed);
+  const float a = lattice(x0, y0, seed, variant);
+  const float b = lattice(x1, y0, seed, variant);
+  const float c = lattice(x0, y1, seed, variant);
+  const float d = lattice(x1, y1, seed, variant);
   return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
 }
 
-float fbm(float x, float y, int octaves, int px, int py, uint32_t seed, float gain) {
+float fbm(float x, float y, int octaves, int px, int py, uint32_t seed, float gain, uint32_t variant) {
   float sum = 0.0f;
   float amplitude = 1.0f;
   float norm = 0.0f;
   for (int o = 0; o < octaves; ++o) {
-    sum += amplitude * valueNoise(x, y, px, py, seed + 0x9e37u * static_cast<uint32_t>(o));
+    sum += amplitude * valueNoise(x, y, px, py, seed + 0x9e37u * static_cast<uint32_t>(o), variant);
     norm += amplitude;
     amplitude *= gain;
     x *= 2.0f;
@@ -51,7 +53,7 @@ float fbm(float x, float y, int octaves, int px, int py, uint32_t seed, float ga
   return sum / norm;
 }
 
-float cellular(float x, float y, int period, uint32_t seed, uint32_t* cellHash) {
+float cellular(float x, float y, int period, uint32_t seed, uint32_t* cellHash, uint32_t variant) {
   const int ix = floorInt(x);
   const int iy = floorInt(y);
   const int wx = wrapi(ix, period);
@@ -62,7 +64,10 @@ float cellular(float x, float y, int period, uint32_t seed, uint32_t* cellHash) 
     const int hy = wy + dy < 0 ? wy + dy + period : (wy + dy >= period ? wy + dy - period : wy + dy);
     for (int dx = -1; dx <= 1; ++dx) {
       const int hx = wx + dx < 0 ? wx + dx + period : (wx + dx >= period ? wx + dx - period : wx + dx);
-      const uint32_t h = hash2D(hx, hy, seed);
+      // The cells on either side of the tile's border keep variant 0's points: a point near the
+      // border then finds the same neighbours whichever variant the next tile shows.
+      const bool border = hx == period - 1 || hy == period - 1;
+      const uint32_t h = hash2D(hx, hy, border ? seed : variantSeed(hx, hy, seed, variant));
       const float px = static_cast<float>(ix + dx) + hashUnit(h);
       const float py = static_cast<float>(iy + dy) + hashUnit(h * 0x9e3779b9u + 1u);
       const float d = (px - x) * (px - x) + (py - y) * (py - y);

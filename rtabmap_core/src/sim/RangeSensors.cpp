@@ -18,8 +18,9 @@ float intensityAt(const World& world, const Face& face, double s, double h) {
     const Texture& tex = world.textures()[static_cast<size_t>(m.texture)];
     const float tpm = tex.texelsPerMetre();
     uint8_t bgr[3];
-    sampleBilinear(tex.level(std::min(2, tex.levels() - 1)), static_cast<float>((s + m.offsetS) * tpm),
-                   static_cast<float>((m.offsetT - h) * tpm), bgr);
+    const float ts = static_cast<float>((s + m.offsetS) * tpm);
+    const float tt = static_cast<float>((m.offsetT - h) * tpm);
+    sampleBilinear(tex.levelAt(std::min(2, tex.levels() - 1), m.variantKey, ts, tt), ts, tt, bgr);
     brightness = (0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]) / 255.0f;
   }
   return 1000.0f * m.reflectivity * (0.4f + 0.6f * brightness);

@@ -24,36 +24,63 @@ const uint8_t kGrey[3] = {128, 128, 128};
 
 // One texture column as a wall column sees it: the horizontal texel pair and weight are the
 // same on every row (s is constant on a vertical face), so only the vertical position moves,
-// in 16.16 fixed point. Equivalent to sampleBilinear(level, s, t0 + i * dt) for row i.
+// in 16.16 fixed point. Equivalent to sampleBilinear(level, s, t0 + i * dt) for row i. With
+// tile variants, the column switches variant where it crosses into another tile row.
 struct TextureColumn {
   const uint8_t* c0 = nullptr;  // the two stored rows (= picture columns) to blend
   const uint8_t* c1 = nullptr;
+  size_t off0 = 0, off1 = 0;    // their byte offsets in a level
   int wx = 0;                   // weight of c1, 0..256
   int height = 0;
   bool wrap = false;
   int64_t y = 0;                // current row coordinate (texels, 16.16, texel centre at 0)
   int64_t dy = 0;
+  const Texture* varied = nullptr;  // set when the texture has variants
+  int level = 0;
+  uint32_t key = 0;
+  int tileX = 0;
+  int tileY = 0;                // the tile row c0/c1 point into
+  int shiftY = 0;
 
-  TextureColumn(const TextureLevel& l, float s, float t0, float dt) : height(l.height), wrap(l.wrap) {
+  TextureColumn(const Texture& tex, int levelIndex, uint32_t variantKey, float s, float t0, float dt)
+      : level(levelIndex), key(variantKey) {
+    const TextureLevel& l = tex.level(levelIndex);
+    height = l.height;
+    wrap = l.wrap;
     const float x = s * l.scaleX - 0.5f;
     int x0 = fastFloor(x);
     wx = static_cast<int>((x - static_cast<float>(x0)) * 256.0f);
     int x1 = x0 + 1;
     if (wrap) {
+      tileX = x0 >> l.shiftX;
       x0 &= l.width - 1;
       x1 &= l.width - 1;
     } else {
       x0 = std::clamp(x0, 0, l.width - 1);
       x1 = std::clamp(x1, 0, l.width - 1);
     }
-    c0 = l.data + static_cast<size_t>(x0) * l.step;
-    c1 = l.data + static_cast<size_t>(x1) * l.step;
+    off0 = static_cast<size_t>(x0) * l.step;
+    off1 = static_cast<size_t>(x1) * l.step;
+    c0 = l.data + off0;
+    c1 = l.data + off1;
     y = static_cast<int64_t>(std::llround((t0 * l.scaleY - 0.5) * 65536.0));
     dy = static_cast<int64_t>(std::llround(static_cast<double>(dt) * l.scaleY * 65536.0));
+    if (tex.variants() > 1) {
+      varied = &tex;
+      shiftY = l.shiftY;
+      selectTileRow(static_cast<int>(y >> 16) >> shiftY);
+    }
+  }
+  void selectTileRow(int ty) {
+    tileY = ty;
+    const TextureLevel& l = varied->level(level, varied->variantAt(key, tileX, ty));
+    c0 = l.data + off0;
+    c1 = l.data + off1;
   }
   // The texel at the current row, then one row on.
   inline void next(uint8_t out[3]) {
     const int yi = static_cast<int>(y >> 16);  // arithmetic shift: floor, also below zero
+    if (varied && (yi >> shiftY) != tileY) selectTileRow(yi >> shiftY);
     const int wy = static_cast<int>((y >> 8) & 255);
     int y0 = yi, y1 = yi + 1;
     if (wrap) {
@@ -114,8 +141,9 @@ struct ColumnFill {
         // Footprint: across the ray z|d|/fx, along it (foreshortened) z^2/k, in metres.
         const double metres = std::max(z * dirNorm / K.fx, z * z / k);
         const int level = tex.levelFor(static_cast<float>(metres * tpm));
-        sampleBilinear(tex.level(level), static_cast<float>((px + m.offsetS) * tpm),
-                       static_cast<float>((m.offsetT - py) * tpm), texel);
+        const float s = static_cast<float>((px + m.offsetS) * tpm);
+        const float t = static_cast<float>((m.offsetT - py) * tpm);
+        sampleBilinear(tex.levelAt(level, m.variantKey, s, t), s, t, texel);
       } else {
         std::copy(kGrey, kGrey + 3, texel);
       }
@@ -145,8 +173,9 @@ struct ColumnFill {
         const float tpm = tex.texelsPerMetre();
         const double metres = std::max(z * dirNorm / K.fx, z * z / k);
         const int level = tex.levelFor(static_cast<float>(metres * tpm));
-        sampleBilinear(tex.level(level), static_cast<float>((px + m.offsetS) * tpm),
-                       static_cast<float>((m.offsetT - py) * tpm), texel);
+        const float s = static_cast<float>((px + m.offsetS) * tpm);
+        const float t = static_cast<float>((m.offsetT - py) * tpm);
+        sampleBilinear(tex.levelAt(level, m.variantKey, s, t), s, t, texel);
       } else {
         std::copy(kGrey, kGrey + 3, texel);
       }
@@ -202,9 +231,9 @@ struct ColumnFill {
       };
       if (tex) {
         const float tpm = tex->texelsPerMetre();
-        const TextureLevel& level = tex->level(tex->levelFor(static_cast<float>(footprint * tpm)));
         // Texture row of pixel row v: (offsetT - height(v)) * tpm, linear in v.
-        TextureColumn base(level, static_cast<float>((s + m.offsetS) * tpm), static_cast<float>((m.offsetT - h0) * tpm),
+        TextureColumn base(*tex, tex->levelFor(static_cast<float>(footprint * tpm)), m.variantKey,
+                           static_cast<float>((s + m.offsetS) * tpm), static_cast<float>((m.offsetT - h0) * tpm),
                            static_cast<float>(metresPerRow * tpm));
         run(v0, d0, &base);
         if (d1 <= v1) {
@@ -219,7 +248,7 @@ struct ColumnFill {
         const Texture& dt = world.textures()[static_cast<size_t>(decal->texture)];
         const float dtpm = dt.texelsPerMetre();
         const double hd = camZ - (d0 - K.cy) * metresPerRow;
-        TextureColumn picture(dt.level(dt.levelFor(static_cast<float>(footprint * dtpm))), static_cast<float>((s - decal->s0) * dtpm),
+        TextureColumn picture(dt, dt.levelFor(static_cast<float>(footprint * dtpm)), 0u, static_cast<float>((s - decal->s0) * dtpm),
                               static_cast<float>((decal->h1 - hd) * dtpm), static_cast<float>(metresPerRow * dtpm));
         run(d0, d1, &picture);
       }

@@ -119,6 +119,95 @@ TEST(SimMaterials, TilesAreSeamlessAndDeterministic) {
   }
 }
 
+// Tile variants (a surface shows one per tile): each is deterministic and periodic, variant 0 is
+// the plain tile, another draws other details inside the same structure, and any two meet without
+// a seam: across a tile border from variant a to variant b the colour jumps no more than it does
+// from variant a to itself (mortar, grout and grid lines on the border jump in both).
+TEST(SimMaterials, TileVariantsDifferAndMeetWithoutASeam) {
+  Rng rng(6);
+  const int size = 128;
+  const float tpm = 32.0f;
+  const float period = size / tpm;
+  int varied = 0;
+  for (int k = 0; k <= static_cast<int>(MaterialKind::kMetal); ++k) {
+    const MaterialKind kind = static_cast<MaterialKind>(k);
+    if (!variesPerTile(kind)) continue;
+    ++varied;
+    SCOPED_TRACE(materialName(kind));
+    const MaterialSpec spec = randomMaterialSpec(kind, rng);
+    const cv::Mat v0 = generateMaterialImage(spec, size, tpm);
+    const cv::Mat v1 = generateMaterialImage(spec, size, tpm, 1);
+    EXPECT_EQ(cv::norm(v0, generateMaterialImage(spec, size, tpm, 0), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(v1, generateMaterialImage(spec, size, tpm, 1), cv::NORM_INF), 0.0);
+    // Other details: a visible share of the texels moves by more than 4 grey levels.
+    cv::Mat diff, grey;
+    cv::absdiff(v0, v1, diff);
+    cv::cvtColor(diff, grey, cv::COLOR_BGR2GRAY);
+    EXPECT_GT(cv::countNonZero(grey > 4), size * size / 50);
+    Rng points(static_cast<uint64_t>(k) + 100);
+    const float eps = 1e-4f;  // a three-hundredth of a texel, a fiftieth of the finest noise
+    for (int i = 0; i < 300; ++i) {
+      const float u = static_cast<float>(points.uniform(0.0, period));
+      const int a = points.uniformInt(0, 3);
+      const int b = points.uniformInt(0, 3);
+      for (const bool alongX : {true, false}) {
+        auto at = [&](float across, int variant) {
+          return alongX ? materialColourAt(spec, across, u, size, tpm, variant)
+                        : materialColourAt(spec, u, across, size, tpm, variant);
+        };
+        const cv::Vec3f before = at(period - eps, a);
+        const double jumpSame = cv::norm(before - at(period + eps, a));
+        const double jumpOther = cv::norm(before - at(period + eps, b));
+        ASSERT_LE(jumpOther, jumpSame + 3.0) << "variants " << a << " -> " << b << (alongX ? " along x" : " along y")
+                                             << " at " << u;
+      }
+      // Each variant is periodic on its own.
+      const cv::Vec3f c = materialColourAt(spec, u, 0.3f * u, size, tpm, a);
+      ASSERT_LT(cv::norm(c - materialColourAt(spec, u + period, 0.3f * u, size, tpm, a)), 1.0);
+    }
+  }
+  EXPECT_GE(varied, 8);
+  EXPECT_FALSE(variesPerTile(MaterialKind::kPaint));
+  EXPECT_FALSE(variesPerTile(MaterialKind::kWallpaper));
+  EXPECT_FALSE(variesPerTile(MaterialKind::kBookshelf));
+}
+
+// A texture with variants picks one per tile by a hash of the tile and the surface's key: the
+// same every time, and not the same everywhere.
+TEST(SimTexture, VariantsArePickedPerTile) {
+  std::vector<cv::Mat> pictures;
+  for (int v = 0; v < 4; ++v) pictures.emplace_back(8, 8, CV_8UC3, cv::Scalar(10 * v, 0, 0));
+  const Texture t(pictures, true, 2.0f, 77u);
+  ASSERT_EQ(t.variants(), 4);
+  ASSERT_EQ(t.levels(), 4);
+  EXPECT_EQ(t.image(2, 3).at<cv::Vec3b>(0, 0), cv::Vec3b(30, 0, 0));
+  EXPECT_EQ(t.level(0).shiftX, 3);
+  EXPECT_EQ(t.level(1).shiftY, 2);
+  EXPECT_THROW(t.image(0, 4), std::out_of_range);
+  EXPECT_THROW(Texture(pictures, false, 1.0f), std::invalid_argument);  // a decal has no tiles
+  int counts[4] = {0, 0, 0, 0};
+  int keyChanges = 0;
+  for (int ty = -10; ty < 10; ++ty) {
+    for (int tx = -10; tx < 10; ++tx) {
+      const int v = t.variantAt(5u, tx, ty);
+      ASSERT_EQ(v, t.variantAt(5u, tx, ty));
+      ++counts[v];
+      keyChanges += v != t.variantAt(6u, tx, ty);
+      // levelAt: texel coordinates in tile (tx, ty) give that tile's variant, at every level.
+      uint8_t bgr[3];
+      const float s = tx * 8.0f + 4.0f;
+      const float u = ty * 8.0f + 4.0f;
+      sampleBilinear(t.levelAt(1, 5u, s, u), s, u, bgr);
+      ASSERT_EQ(bgr[0], 10 * v);
+    }
+  }
+  for (int v = 0; v < 4; ++v) EXPECT_GT(counts[v], 60) << v;  // about 100 each
+  EXPECT_GT(keyChanges, 200);
+  const Texture single(pictures.front(), true, 2.0f);
+  EXPECT_EQ(single.variants(), 1);
+  EXPECT_EQ(single.variantAt(5u, 3, 4), 0);
+}
+
 // Corners a detector finds on a material, with an absolute threshold (FAST, 20 grey levels):
 // textured materials are rich, paint, plaster and linoleum nearly empty.
 TEST(SimMaterials, TexturedAreFeatureRichAndPlainAreNot) {

@@ -190,3 +190,56 @@ TEST(SimRenderer, TexturedWallsGiveCornersPlainWallsDoNot) {
   EXPECT_GT(left, 100);
   EXPECT_LT(right, 5);
 }
+
+// A long corridor of brick walls, floor tiles and a ceiling grid, materials 4 m to a tile. With
+// plain periodic tiles, a camera moved one period along it sees the very same picture (what
+// made appearance-based loop closure match places 4, 8, 12 m apart); with tile variants, the
+// structure is the same but the details differ, while the same pose still renders identically.
+TEST(SimRenderer, TileVariantsBreakThePeriodOfLargeSurfaces) {
+  auto corridor = [](int variants) {
+    auto world = std::make_unique<World>(2.6);
+    const int brick = world->addTexture(makeMaterialTexture(material(MaterialKind::kBrick, 3, {60, 80, 160}), 128, 32, variants));
+    const int tiles = world->addTexture(makeMaterialTexture(material(MaterialKind::kFloorTiles, 5, {120, 140, 150}), 128, 32, variants));
+    const int grid = world->addTexture(makeMaterialTexture(material(MaterialKind::kCeilingTiles, 6, {220, 225, 225}), 128, 32, variants));
+    SurfaceMaterial wall, floor, ceiling;
+    wall.texture = brick;
+    wall.variantKey = 11;
+    floor.texture = tiles;
+    ceiling.texture = grid;
+    world->addSolid({{-60.0, 1.1}, {60.0, 1.1}, {60.0, 1.2}, {-60.0, 1.2}}, 2.6f, SolidKind::kWall, {wall}, SurfaceMaterial(), "wall");
+    world->addSolid({{-60.0, -1.2}, {60.0, -1.2}, {60.0, -1.1}, {-60.0, -1.1}}, 2.6f, SolidKind::kWall, {wall}, SurfaceMaterial(), "wall");
+    world->setRegions(cv::Mat::zeros(1, 1, CV_16UC1), -1000, -1000, 4000, {floor}, {ceiling});
+    world->finalize();
+    return world;
+  };
+  CameraIntrinsics k;
+  k.width = 320;
+  k.height = 240;
+  k.fx = k.fy = 260.0;
+  k.cx = 159.5;
+  k.cy = 119.5;
+  RenderOptions options;
+  options.maxDepth = 15.0;  // the corridor's ends stay out of sight
+  // Share of pixels whose grey level differs by more than 8 between two poses one period apart.
+  auto changed = [&](const World& world, double x0, double x1) {
+    const Renderer renderer(world, k, options);
+    cv::Mat a, b, diff;
+    renderer.render(ViewPose{x0, 0.3, 1.2, 0.2}, a, nullptr);
+    renderer.render(ViewPose{x1, 0.3, 1.2, 0.2}, b, nullptr);
+    cv::cvtColor(a, a, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(b, b, cv::COLOR_BGR2GRAY);
+    cv::absdiff(a, b, diff);
+    return cv::countNonZero(diff > 8) / static_cast<double>(k.width * k.height);
+  };
+  const auto periodic = corridor(1);
+  const auto varied = corridor(4);
+  EXPECT_EQ(changed(*varied, 2.0, 2.0), 0.0);  // same pose, same picture
+  EXPECT_EQ(changed(*periodic, 2.0, 2.0), 0.0);
+  for (const double x : {-7.0, 2.0, 13.0}) {
+    SCOPED_TRACE(x);
+    EXPECT_LT(changed(*periodic, x, x + 4.0), 0.005);  // one period on: the same picture
+    EXPECT_LT(changed(*periodic, x, x + 8.0), 0.005);
+    EXPECT_GT(changed(*varied, x, x + 4.0), 0.1);      // tile variants: another one
+    EXPECT_GT(changed(*varied, x, x + 8.0), 0.1);
+  }
+}

@@ -58,6 +58,11 @@ struct BuildingSpec {
   int materialSize = 512;
   float materialTexelsPerMetre = 128.0f;
   float decalTexelsPerMetre = 256.0f;
+  // Tile variants of the materials that cover large surfaces (variesPerTile in Materials.h):
+  // each tile of a floor, ceiling or brick wall shows one of them, picked by a hash of its
+  // position, so the building does not repeat itself exactly every tile period (4 m). 1: plain
+  // periodic tiles. Costs that many times the generation time and memory of those materials.
+  int materialVariants = 4;
 };
 
 struct Rect {

@@ -58,13 +58,24 @@ struct MaterialSpec {
 
 // A spec of that kind with colours that suit it (brick reds, wood browns, pastel paints...).
 MaterialSpec randomMaterialSpec(MaterialKind kind, Rng& rng);
-// The tile image, CV_8UC3, size x size (a power of two).
-cv::Mat generateMaterialImage(const MaterialSpec& spec, int size = 512, float texelsPerMetre = 128.0f);
+// Materials that cover metres of floor, ceiling or wall with a regular structure (courses,
+// tiles, grids, planks, cast or speckled surfaces): tiled at the texture's period, a camera
+// moved by a multiple of it would see exactly the same picture, so the building gives them
+// several tile variants (see below). Paint and plaster (featureless), wallpaper (a printed
+// repeat, periodic in reality too) and furniture materials (small faces) have one.
+bool variesPerTile(MaterialKind kind);
+// The tile image, CV_8UC3, size x size (a power of two). `variant` 0 is the material's tile;
+// another variant keeps its structure (joints, grout, courses, grid, colours) and draws its
+// random details (noise, specks, pores, per-brick or per-tile shades) again, so that variants
+// placed side by side in any order meet without a seam (Procedural.h).
+cv::Mat generateMaterialImage(const MaterialSpec& spec, int size = 512, float texelsPerMetre = 128.0f, int variant = 0);
 // The material's colour at (x, y) metres on a tile of that size and density (what texel
 // generation evaluates at texel centres). Periodic: adding the tile's period (size /
 // texelsPerMetre) to x or y gives the same colour. Slow (sets the generator up per call): tests.
-cv::Vec3f materialColourAt(const MaterialSpec& spec, float x, float y, int size = 512, float texelsPerMetre = 128.0f);
-// The tile as a wrapping texture with its mip chain.
-Texture makeMaterialTexture(const MaterialSpec& spec, int size = 512, float texelsPerMetre = 128.0f);
+cv::Vec3f materialColourAt(const MaterialSpec& spec, float x, float y, int size = 512, float texelsPerMetre = 128.0f,
+                           int variant = 0);
+// The tile as a wrapping texture with its mip chain; with `variants` > 1, variants 0 ..
+// variants - 1, one of which shows on each tile of a surface (Texture::variantAt).
+Texture makeMaterialTexture(const MaterialSpec& spec, int size = 512, float texelsPerMetre = 128.0f, int variants = 1);
 
 }  // namespace rtabmap::sim

@@ -10,6 +10,12 @@
 // Two kinds: materials repeat (wrap) and must have power-of-two sizes, so wrapping is a mask;
 // decals (posters, doors, windows) are single pictures clamped at their border.
 //
+// A wrapping texture may hold several tile variants (same size, made to meet seamlessly in any
+// order: Materials.h): the surface's plane is cut into tiles of the picture's size, and each tile
+// shows the variant variantAt(key, tile x, tile y) picks, a hash of the tile's integer indices
+// and of the surface's key (SurfaceMaterial::variantKey). A large surface then does not show the
+// same picture again one period away, as no real floor or brick wall does.
+//
 // Texel coordinates: (s, t) in level-0 texels, s along the columns, t along the rows; texel
 // (i, j) covers [i, i+1) x [j, j+1), its centre at (i + 0.5, j + 0.5).
 //
@@ -23,7 +29,15 @@
 #include <cstring>
 #include <vector>
 
+#include "rtabmap_core/sim/Random.h"
+
 namespace rtabmap::sim {
+
+// floor() without a libm call (the default x86-64 target has no SSE4.1 rounding).
+inline int fastFloor(float x) {
+  const int i = static_cast<int>(x);
+  return (x < static_cast<float>(i)) ? i - 1 : i;
+}
 
 // One mip level, as raw pointers for the renderer's inner loop.
 struct TextureLevel {
@@ -34,6 +48,8 @@ struct TextureLevel {
   float scaleX = 1.0f;  // level-0 texels -> this level's texels (1 / 2^level for materials;
   float scaleY = 1.0f;  //   the exact size ratio for decals, whose odd sizes round up)
   bool wrap = false;
+  int shiftX = 0;       // wrapping: log2 of width and height (texel index >> shift = tile index)
+  int shiftY = 0;
 };
 
 class Texture {
@@ -42,15 +58,34 @@ class Texture {
   // image: CV_8UC3 (BGR). A wrapping texture needs power-of-two width and height
   // (std::invalid_argument otherwise). texelsPerMetre: how large it appears on surfaces.
   Texture(const cv::Mat& image, bool wrap, float texelsPerMetre);
+  // A wrapping texture with tile variants (at least one, all the same power-of-two size);
+  // `salt` makes two textures pick their variants independently on the same surface.
+  Texture(const std::vector<cv::Mat>& variants, bool wrap, float texelsPerMetre, uint32_t salt = 0);
 
   bool empty() const { return levels_.empty(); }
-  int levels() const { return static_cast<int>(levels_.size()); }
-  // The picture of a level, in the usual orientation (a copy).
-  cv::Mat image(int level = 0) const;
-  const TextureLevel& level(int level) const { return views_[static_cast<size_t>(level)]; }
+  int levels() const { return levelCount_; }
+  int variants() const { return variantCount_; }
+  // The picture of a level of a variant, in the usual orientation (a copy).
+  cv::Mat image(int level = 0, int variant = 0) const;
+  const TextureLevel& level(int level, int variant = 0) const {
+    return views_[static_cast<size_t>(variant * levelCount_ + level)];
+  }
+  // The variant shown on tile (tileX, tileY) (level-0 texel index >> level(0).shiftX, ...) of a
+  // surface with that key: a hash, so the same on every run and every thread.
+  int variantAt(uint32_t key, int tileX, int tileY) const {
+    if (variantCount_ == 1) return 0;
+    // Multiply-shift instead of a modulo: no division in the renderer's inner loop.
+    const uint64_t h = hash2D(tileX, tileY, key ^ salt_);
+    return static_cast<int>((h * static_cast<uint64_t>(variantCount_)) >> 32);
+  }
+  // A level of the variant that shows at level-0 texel coordinates (s, t) of a surface.
+  const TextureLevel& levelAt(int level, uint32_t key, float s, float t) const {
+    if (variantCount_ == 1) return views_[static_cast<size_t>(level)];
+    return this->level(level, variantAt(key, fastFloor(s) >> views_[0].shiftX, fastFloor(t) >> views_[0].shiftY));
+  }
   bool wrap() const { return wrap_; }
   float texelsPerMetre() const { return texelsPerMetre_; }
-  // Mean grey level (0..255) of the whole picture: a laser's idea of its reflectance.
+  // Mean grey level (0..255) of the whole picture (variant 0): a laser's idea of its reflectance.
   float meanGrey() const { return meanGrey_; }
 
   // The level whose texels span about one pixel, when one pixel spans `texelsPerPixel` level-0
@@ -67,20 +102,20 @@ class Texture {
   }
 
  private:
-  std::vector<cv::Mat> levels_;
-  std::vector<TextureLevel> views_;
+  std::vector<cv::Mat> levels_;       // variant-major: variant v's level l at v * levelCount_ + l
+  std::vector<TextureLevel> views_;   // the same order
+  int levelCount_ = 0;
+  int variantCount_ = 0;
+  uint32_t salt_ = 0;
   bool wrap_ = false;
   float texelsPerMetre_ = 1.0f;
   float meanGrey_ = 0.0f;
 };
 
 // Bilinear sample of a level at level-0 texel coordinates (s, t) into bgr[3]. Inline: the
-// renderer calls it for every pixel.
-// floor() without a libm call (the default x86-64 target has no SSE4.1 rounding).
-inline int fastFloor(float x) {
-  const int i = static_cast<int>(x);
-  return (x < static_cast<float>(i)) ? i - 1 : i;
-}
+// renderer calls it for every pixel. (Across a tile border the second texel comes from the
+// same variant, wrapped: variants share their border's structure, so this is within a grey
+// level or two of the neighbouring tile's texel.)
 
 inline void sampleBilinear(const TextureLevel& l, float s, float t, uint8_t bgr[3]) {
   const float x = s * l.scaleX - 0.5f;

@@ -29,6 +29,10 @@ struct SurfaceMaterial {
   float offsetT = 0.0f;
   float shade = 1.0f;         // light falling on the surface (1 = full)
   float reflectivity = 0.6f;  // laser return strength scale, 0..1
+  // Which tile variant of the texture shows where (Texture::variantAt): faces that continue one
+  // another (the pieces of a straight wall) share a key; floors and ceilings use 0, their tiles
+  // being indexed in world coordinates.
+  uint32_t variantKey = 0;
 };
 
 // A picture on a face: [s0, s1] along the face, [h0, h1] in height.
