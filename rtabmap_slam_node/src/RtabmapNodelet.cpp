@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "rtabmap_conversions/CoreLog.h"
+#include "rtabmap_core/memory/ProcessMemory.h"
 #include "rtabmap_conversions/GraphConversions.h"
 #include "rtabmap_conversions/InfoConversions.h"
 #include "rtabmap_conversions/TransformConversions.h"
@@ -52,6 +53,11 @@ RtabmapNodelet::~RtabmapNodelet() {
 
 void RtabmapNodelet::onInit() {
   rtabmap_conversions::routeCoreLogToRosconsole();
+  // Images map and unmap instead of fragmenting the heap over hours (issue 10): the process's
+  // allocator, set before the first map update.
+  if (rtabmap::memory::configureAllocator()) {
+    NODELET_DEBUG("%s: malloc mmap threshold fixed at %zu bytes", getName().c_str(), rtabmap::memory::kMmapThreshold);
+  }
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   readNodeParameters(pnh);

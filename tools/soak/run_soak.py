@@ -41,7 +41,8 @@ SIM_OPTIONS = ["--scenario", "long", "--rate", "1", "--width", "320", "--height"
 INFO_STATS = ("Timing/Total/ms", "Memory/Working_memory_size/", "Memory/Short_time_memory_size/",
               "Memory/Durable_node_id/", "Memory/Database_write_failed/", "Memory/Small_movement/",
               "Memory/Signatures_retrieved/", "Memory/RAM_usage/MB", "Memory/Local_graph_size/",
-              "Memory/Heap_free/MB", "Memory/Database_memory_used/MB", "Memory/Grid_memory_used/MB")
+              "Memory/Heap_free/MB", "Memory/Database_memory_used/MB", "Memory/Grid_memory_used/MB",
+              "Memory/Grid_nodes_resident/", "Memory/Grid_nodes_read_back/")
 
 
 def log(message):

@@ -104,7 +104,7 @@ def stage_times(updates, span_s):
 
 MEMORY_STATS = (("heap in use (live data)", "Memory/RAM_usage/MB"), ("heap kept free by malloc", "Memory/Heap_free/MB"),
                 ("SQLite (page caches)", "Memory/Database_memory_used/MB"),
-                ("global grid cache (every node)", "Memory/Grid_memory_used/MB"))
+                ("global grid (map, WM cells, LTM cache)", "Memory/Grid_memory_used/MB"))
 
 
 def memory_breakdown(updates, reference_s, window_s=300.0):

@@ -41,17 +41,21 @@ CellSet::CellSet(const std::vector<cv::Point3f>& points, float cellSize) : cellS
 }
 
 bool CellSet::encodeRuns(const std::vector<cv::Point3f>& points) {
-  std::vector<std::pair<int, int>> cells;  // (row, col)
+  // A cell as one 32-bit key ordered by row then column (both within int16, latticeIndex): a
+  // node read back from the database is encoded again, and sorting these is what that costs.
+  constexpr int kBias = 1 << 15;
+  std::vector<uint32_t> cells;
   cells.reserve(points.size());
   for (const cv::Point3f& p : points) {
     int c = 0, r = 0;
     if (p.z != 0.0f || !latticeIndex(p.x, cellSize_, c) || !latticeIndex(p.y, cellSize_, r)) return false;
-    cells.emplace_back(r, c);
+    cells.push_back(static_cast<uint32_t>(r + kBias) << 16 | static_cast<uint32_t>(c + kBias));
   }
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   std::vector<Run> runs;
-  for (const auto& [r, c] : cells) {
+  for (const uint32_t key : cells) {
+    const int r = static_cast<int>(key >> 16) - kBias, c = static_cast<int>(key & 0xffffu) - kBias;
     if (!runs.empty() && runs.back().row == r && runs.back().col + runs.back().length == c &&
         runs.back().length < std::numeric_limits<uint16_t>::max()) {
       ++runs.back().length;

@@ -21,6 +21,7 @@ GlobalGridOptions GlobalGridOptions::fromParameters(const ParametersMap& p) {
   o.footprintRadius = Parameters::getFloat(p, Parameters::kGridGlobalFootprintRadius());
   o.eroded = Parameters::getBool(p, Parameters::kGridGlobalEroded());
   o.maxNodes = Parameters::getInt(p, Parameters::kGridGlobalMaxNodes());
+  o.ltmCacheSize = Parameters::getFloat(p, Parameters::kGridGlobalLtmCacheSize());
   o.altitudeDelta = Parameters::getFloat(p, Parameters::kGridGlobalAltitudeDelta());
   return o;
 }
@@ -56,6 +57,8 @@ bool GlobalGridOptions::IsValid(std::string* why) const {
       r << "GridGlobal/MaxNodes must be >= 0 (got " << maxNodes << ")";
     } else if (!(std::isfinite(altitudeDelta) && altitudeDelta >= 0.0f)) {
       r << "GridGlobal/AltitudeDelta must be >= 0 (got " << altitudeDelta << ")";
+    } else if (!(std::isfinite(ltmCacheSize) && ltmCacheSize >= 0.0f && ltmCacheSize < 1e6f)) {
+      r << "GridGlobal/LtmCacheSize must be >= 0 MB (got " << ltmCacheSize << ")";
     }
   }
   const std::string text = r.str();

@@ -55,6 +55,7 @@ void sortUnique(std::vector<int64_t>& v) {
 NodeCells::NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells,
                      float cellSize)
     : obstacles(obstacleCells, cellSize), free(freeCells, cellSize) {
+  cells = obstacles.count() + free.count();
   bool first = true;
   for (const auto* cells : {&obstacleCells, &freeCells}) {
     for (const cv::Point3f& p : *cells) {

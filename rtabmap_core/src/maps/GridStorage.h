@@ -49,17 +49,26 @@ inline int tileCol(int64_t key) { return static_cast<int32_t>(static_cast<uint32
 inline int tileRow(int64_t key) { return static_cast<int32_t>(key >> 32); }
 
 // A node's cells in its base frame (compact, see Cells.h): obstacles are applied first, then
-// free cells (ground, and the empty cells of a 2D grid).
+// free cells (ground, and the empty cells of a 2D grid). An evicted node (out of the Working
+// Memory) keeps only what deciding a re-assembly needs: its bounds, radius and cell count; its
+// cells come back through the grid's loader when a re-assembly applies it.
 struct NodeCells {
   CellSet obstacles, free;
   cv::Point3f lo{0, 0, 0}, hi{0, 0, 0};
   float radius = 0.0f;  // farthest cell from the node's origin, in the plane
+  size_t cells = 0;     // obstacles.count() + free.count(), kept when evicted
+  bool evicted = false;
 
   NodeCells() = default;
   NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells,
             float cellSize);
-  size_t count() const { return obstacles.count() + free.count(); }
+  size_t count() const { return cells; }
   size_t bytes() const { return sizeof(NodeCells) + obstacles.bytes() + free.bytes(); }
+  void evict() {
+    obstacles = CellSet();
+    free = CellSet();
+    evicted = true;
+  }
 };
 
 class GridStorage {

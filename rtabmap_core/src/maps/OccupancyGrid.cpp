@@ -9,6 +9,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <list>
+#include <optional>
+#include <unordered_map>
 #include <set>
 #include <sstream>
 
@@ -17,6 +20,7 @@
 #include "GridStorage.h"
 #include "SensorModel.h"
 #include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/maps/Cloud.h"
 
 namespace rtabmap {
@@ -45,6 +49,11 @@ constexpr double kPriorNsPerUnit = 4.0;
 // When the moved, removed and inserted nodes hold more than this share of all cells, the region
 // would be most of the map: the full path is taken without computing the region.
 constexpr double kMostlyMoved = 0.5;
+// Reading an evicted node's cells back (the loader's database read and decompression, then the
+// compact encoding), per cell, before any measurement: about 10x applying one.
+constexpr double kPriorNsPerLoadedCell = 40.0;
+// Evicted nodes read back per loader call: a few hundred KB of local grids in flight.
+constexpr size_t kLoadBatch = 64;
 
 // CPU time of this thread (ns): the cost model measures the work, not the time other processes
 // took the core.
@@ -59,6 +68,25 @@ bool finiteCells(const Cloud& c) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
   }
   return true;
+}
+
+// A local grid's cells as the map keeps them, or nullopt with the reason: the one conversion
+// for grids added and grids read back after eviction, so both give the same cells to the bit.
+std::optional<NodeCells> nodeCellsOf(const LocalGrid& grid, float cellSize, std::string& why) {
+  why = maps_detail::localGridProblem(grid, cellSize, "the map");
+  if (!why.empty()) return std::nullopt;
+  const Cloud obstacles = cloudFromCells(grid.obstacles);
+  Cloud free = cloudFromCells(grid.ground);
+  if (grid.empty.empty() || grid.empty.channels() == 2) free.append(cloudFromCells(grid.empty));
+  if (!finiteCells(obstacles) || !finiteCells(free)) {
+    why = "its local grid has NaN or infinite cells";
+    return std::nullopt;
+  }
+  if (obstacles.empty() && free.empty()) {
+    why = "its local grid has only 3D empty cells, which a 2D map does not use";
+    return std::nullopt;
+  }
+  return NodeCells(obstacles.points, free.points, cellSize);
 }
 
 }  // namespace
@@ -82,9 +110,49 @@ class OccupancyGrid::Impl {
   std::map<int, Transform> assembled;            // node -> pose it is assembled at
   std::map<int, std::vector<int64_t>> tilesOf;   // node -> world tiles its cells fall in there
   GridStorage storage;
-  double nsFull = kPriorNsPerUnit, nsRegion = kPriorNsPerUnit;
-  int fullRuns = 0, regionRuns = 0;
+  double nsFull = kPriorNsPerUnit, nsRegion = kPriorNsPerUnit, nsLoad = kPriorNsPerLoadedCell;
+  int fullRuns = 0, regionRuns = 0, loadRuns = 0;
   Path forced = Path::kNone;
+  OccupancyGrid::GridLoader loader;
+  size_t resident = 0;  // cached nodes with their cells in RAM
+  double loadCpuNs = 0.0;  // thread CPU time spent reading cells back in this update
+  // Cells of evicted nodes kept anyway (GridGlobal/LtmCacheSize), least recently used first.
+  struct Recent {
+    NodeCells cells;
+    std::list<int>::iterator position;
+  };
+  std::unordered_map<int, Recent> recent;
+  std::list<int> recentOrder;
+  size_t recentBytes = 0;
+  size_t recentBudget = static_cast<size_t>(double(o.ltmCacheSize) * 1024.0 * 1024.0);
+  // Cells read back and remembered during this update: at most half the budget, so that a
+  // re-assembly replaying more old nodes than the budget holds (the same ones update after
+  // update, in the same order) keeps a part of them rather than pushing each out before its
+  // next use.
+  size_t rememberedNow = 0;
+
+  const NodeCells* recentCells(int id) {
+    auto it = recent.find(id);
+    if (it == recent.end()) return nullptr;
+    recentOrder.splice(recentOrder.end(), recentOrder, it->second.position);  // used: newest
+    return &it->second.cells;
+  }
+  void forgetRecent(int id) {
+    auto it = recent.find(id);
+    if (it == recent.end()) return;
+    recentBytes -= it->second.cells.bytes();
+    recentOrder.erase(it->second.position);
+    recent.erase(it);
+  }
+  void remember(int id, NodeCells&& n) {
+    forgetRecent(id);
+    const size_t b = n.bytes();
+    if (b > recentBudget) return;
+    recentBytes += b;
+    recentOrder.push_back(id);
+    recent.emplace(id, Recent{std::move(n), std::prev(recentOrder.end())});
+    while (recentBytes > recentBudget) forgetRecent(recentOrder.front());
+  }
 
   CellBox nodeBox(int id, const Transform& pose) const {
     CellBox b = storage.boxAt(cache.at(id), pose);
@@ -99,7 +167,99 @@ class OccupancyGrid::Impl {
 
   bool appendOnly(const std::map<int, Transform>& poses, std::vector<int>& appended, int& withoutGrid) const;
   GridUpdateSummary update(const std::map<int, Transform>& poses);
+
+  // The cells of evicted nodes, read back through the loader (those it did not give back, or
+  // gave back different, are left out and counted).
+  std::map<int, NodeCells> load(const std::vector<int>& ids, GridUpdateSummary& s);
+  // f(id, cells) for each id, in order. Evicted nodes' cells come from the recent ones or are
+  // read back kLoadBatch at a time (then kept among the recent ones); a node not read back gets
+  // no cells (it writes nothing).
+  template <class F>
+  void withCells(const std::vector<int>& ids, GridUpdateSummary& s, F&& f) {
+    static const NodeCells kNone;
+    size_t i = 0;
+    while (i < ids.size()) {
+      std::vector<int> toLoad;
+      size_t j = i;
+      for (; j < ids.size(); ++j) {
+        if (!cache.at(ids[j]).evicted || recent.count(ids[j])) continue;
+        if (toLoad.size() == kLoadBatch) break;
+        toLoad.push_back(ids[j]);
+      }
+      std::map<int, NodeCells> loaded = load(toLoad, s);
+      for (; i < j; ++i) {
+        const NodeCells& n = cache.at(ids[i]);
+        if (!n.evicted) {
+          f(ids[i], n);
+        } else if (const NodeCells* r = recentCells(ids[i])) {
+          f(ids[i], *r);
+        } else {
+          auto it = loaded.find(ids[i]);
+          f(ids[i], it == loaded.end() ? kNone : it->second);
+        }
+      }
+      // Only now: remembering may push out recent cells the batch above used.
+      for (auto& [id, n] : loaded) {
+        if (rememberedNow + n.bytes() > recentBudget / 2) break;
+        rememberedNow += n.bytes();
+        remember(id, std::move(n));
+      }
+    }
+  }
+  // Cells a path would read back (evicted, not among the recent ones).
+  double evictedCells(const std::vector<int>& ids) const {
+    double cells = 0.0;
+    for (int id : ids) {
+      const NodeCells& n = cache.at(id);
+      if (n.evicted && !recent.count(id)) cells += double(n.count());
+    }
+    return cells;
+  }
 };
+
+std::map<int, NodeCells> OccupancyGrid::Impl::load(const std::vector<int>& ids, GridUpdateSummary& s) {
+  std::map<int, NodeCells> out;
+  if (ids.empty()) return out;
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu0 = threadCpuNs();
+  std::map<int, LocalGrid> grids;
+  std::string failure;
+  try {
+    if (loader) grids = loader(ids);
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  double cells = 0.0;
+  int missing = 0;
+  for (int id : ids) {
+    auto g = grids.find(id);
+    std::string why = g == grids.end() ? "not found" : "";
+    std::optional<NodeCells> n;
+    if (g != grids.end()) n = nodeCellsOf(g->second, o.cellSize, why);
+    if (n && n->count() != cache.at(id).count()) {
+      why = "its local grid read back has " + std::to_string(n->count()) + " cells, not " +
+            std::to_string(cache.at(id).count());
+      n.reset();
+    }
+    if (!n) {
+      if (missing++ == 0) {
+        RTABMAP_WARN("global grid: the cells of node " << id << " could not be read back (" << why
+                     << (failure.empty() ? "" : ": " + failure) << "); it is left out of the re-assembled map");
+      }
+      continue;
+    }
+    cells += double(n->count());
+    out.emplace(id, std::move(*n));
+  }
+  grids.clear();
+  s.nodesLoaded += static_cast<int>(out.size());
+  s.nodesNotLoaded += missing;
+  const double cpu = threadCpuNs() - cpu0;
+  loadCpuNs += cpu;
+  learn(nsLoad, loadRuns, cpu, cells);
+  s.loadMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
 
 // The common update: every assembled node still there and not moved beyond UpdateError, new
 // nodes after the last assembled one. Found in one pass over both sorted maps, building none
@@ -136,6 +296,7 @@ bool OccupancyGrid::Impl::appendOnly(const std::map<int, Transform>& poses, std:
 GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& poses) {
   const auto start = std::chrono::steady_clock::now();
   GridUpdateSummary s;
+  rememberedNow = 0;
   std::vector<int> fresh;
   int withoutGrid = 0;
   if (appendOnly(poses, fresh, withoutGrid)) {
@@ -144,13 +305,13 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     for (int id : fresh) need.unite(nodeBox(id, poses.at(id)));
     storage.ensureCovers(need);
     std::vector<int64_t> tiles;
-    for (int id : fresh) {
+    withCells(fresh, s, [&](int id, const NodeCells& n) {
       const Transform& pose = poses.at(id);
-      s.cellUpdates += storage.apply(cache.at(id), pose, false, &tiles);
+      s.cellUpdates += storage.apply(n, pose, false, &tiles);
       tilesOf[id] = tiles;
       storage.addFootprint(pose, o.footprintRadius, +1);
       assembled.emplace_hint(assembled.end(), id, pose);
-    }
+    });
     s.path = fresh.empty() ? Path::kNone : Path::kIncremental;
     s.why = fresh.empty() ? "nothing changed" : std::to_string(fresh.size()) + " new node(s) appended";
     s.nodesAdded = static_cast<int>(fresh.size());
@@ -173,18 +334,22 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
   s.nodesAdded = static_cast<int>(appended.size());
   long updates = 0;
   std::vector<int64_t> tiles;
-  auto applyFull = [&](int id, const Transform& pose) {
-    updates += storage.apply(cache.at(id), pose, false, &tiles);
+  auto applyFull = [&](int id, const NodeCells& n, const Transform& pose) {
+    updates += storage.apply(n, pose, false, &tiles);
     tilesOf[id] = tiles;
     storage.addFootprint(pose, o.footprintRadius, +1);
   };
+  auto applyFullAll = [&](const std::vector<int>& ids) {
+    withCells(ids, s, [&](int id, const NodeCells& n) { applyFull(id, n, ch.target.at(id)); });
+  };
+  loadCpuNs = 0.0;
 
   if (!ch.graphChanged() && inserted.empty()) {
     // Incremental: new nodes come last in the update order.
     CellBox need;
     for (int id : appended) need.unite(nodeBox(id, ch.target.at(id)));
     storage.ensureCovers(need);
-    for (int id : appended) applyFull(id, ch.target.at(id));
+    applyFullAll(appended);
     s.path = appended.empty() ? Path::kNone : Path::kIncremental;
     s.why = appended.empty() ? "nothing changed" : std::to_string(appended.size()) + " new node(s) appended";
   } else {
@@ -207,6 +372,12 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     Path path = Path::kFull;
     std::vector<int> replay;
     std::map<int, std::vector<int64_t>> newTiles;
+    // Evicted nodes a path reads back: the full path all of them, the region the replayed ones.
+    std::vector<int> targetIds;
+    targetIds.reserve(ch.target.size());
+    for (const auto& [id, pose] : ch.target) targetIds.push_back(id);
+    const double fullLoadCells = evictedCells(targetIds);
+    double regionLoadCells = 0.0;
     const bool forcedPath = forced == Path::kFull || forced == Path::kRegion;
     if (forcedPath && forced == Path::kFull) {
       why << "path forced";
@@ -224,13 +395,14 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
         for (int id : *ids) for (int64_t t : tilesOf.at(id)) storage.markDirty(t);
       }
       double regionUnits = 0.0;
-      for (const std::vector<int>* ids : std::array<const std::vector<int>*, 2>{&ch.moved, &inserted}) {
-        for (int id : *ids) {
-          newTiles[id] = storage.tilesAt(cache.at(id), ch.target.at(id));
-          for (int64_t t : newTiles[id]) storage.markDirty(t);
-          regionUnits += double(cache.at(id).count());  // the tile pass
-        }
-      }
+      std::vector<int> retiled = ch.moved;
+      retiled.insert(retiled.end(), inserted.begin(), inserted.end());
+      regionLoadCells += evictedCells(retiled);
+      withCells(retiled, s, [&](int id, const NodeCells& n) {
+        newTiles[id] = storage.tilesAt(n, ch.target.at(id));
+        for (int64_t t : newTiles[id]) storage.markDirty(t);
+        regionUnits += double(n.count());  // the tile pass
+      });
       const std::set<int> appendedSet(appended.begin(), appended.end());
       for (const auto& [id, pose] : ch.target) {
         if (appendedSet.count(id)) continue;
@@ -242,6 +414,7 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
       }
       for (int id : appended) regionUnits += double(cache.at(id).count());
       regionUnits += double(storage.dirtyTiles()) * maps_detail::kTile * maps_detail::kTile;
+      regionLoadCells += evictedCells(replay) + evictedCells(appended);
       s.estimatedRegionUnits = regionUnits;
       if (forcedPath) {
         path = forced;
@@ -250,16 +423,18 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
         path = Path::kRegion;
         why << "GridGlobal/FullUpdate is false: region path";
       } else {
-        const double regionMs = regionUnits * nsRegion / 1e6, fullMs = fullUnits * nsFull / 1e6;
+        const double regionMs = (regionUnits * nsRegion + regionLoadCells * nsLoad) / 1e6;
+        const double fullMs = (fullUnits * nsFull + fullLoadCells * nsLoad) / 1e6;
         path = regionMs <= fullMs ? Path::kRegion : Path::kFull;
         why << "estimated region " << regionMs << " ms vs full " << fullMs << " ms";
       }
     }
     forced = Path::kNone;
     const double cpu0 = threadCpuNs();
+    loadCpuNs = 0.0;  // the cost model learns the paths' own work, the reading back apart
     if (path == Path::kRegion) {
       storage.clearDirtyCells();
-      for (int id : replay) updates += storage.apply(cache.at(id), ch.target.at(id), true, nullptr);
+      withCells(replay, s, [&](int id, const NodeCells& n) { updates += storage.apply(n, ch.target.at(id), true, nullptr); });
       for (const auto& [id, t] : newTiles) tilesOf[id] = t;
       for (int id : ch.removed) storage.addFootprint(assembled.at(id), o.footprintRadius, -1);
       for (int id : ch.moved) {
@@ -267,16 +442,17 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
         storage.addFootprint(ch.target.at(id), o.footprintRadius, +1);
       }
       for (int id : inserted) storage.addFootprint(ch.target.at(id), o.footprintRadius, +1);
-      for (int id : appended) applyFull(id, ch.target.at(id));
+      applyFullAll(appended);
       s.nodesReplayed = static_cast<int>(replay.size() + appended.size());
-      learn(nsRegion, regionRuns, threadCpuNs() - cpu0, s.estimatedRegionUnits);
+      learn(nsRegion, regionRuns, threadCpuNs() - cpu0 - loadCpuNs, s.estimatedRegionUnits);
     } else {
       if (all.empty()) storage.release();
       else storage.reset(all);
-      for (const auto& [id, pose] : ch.target) applyFull(id, pose);
+      applyFullAll(targetIds);
       s.nodesReplayed = static_cast<int>(ch.target.size());
-      learn(nsFull, fullRuns, threadCpuNs() - cpu0, fullUnits);
+      learn(nsFull, fullRuns, threadCpuNs() - cpu0 - loadCpuNs, fullUnits);
     }
+    if (s.nodesLoaded > 0) why << "; " << s.nodesLoaded << " evicted node(s) read back in " << s.loadMs << " ms";
     for (int id : ch.removed) tilesOf.erase(id);
     s.path = path;
     s.why = why.str();
@@ -302,24 +478,45 @@ bool OccupancyGrid::addLocalGrid(int nodeId, const LocalGrid& grid, std::string*
     if (why) *why = "node " + std::to_string(nodeId) + ": " + reason;
     return false;
   };
-  const std::string problem = maps_detail::localGridProblem(grid, impl_->o.cellSize, "the map");
-  if (!problem.empty()) return fail(problem);
-  const Cloud obstacles = cloudFromCells(grid.obstacles);
-  Cloud free = cloudFromCells(grid.ground);
-  if (grid.empty.empty() || grid.empty.channels() == 2) free.append(cloudFromCells(grid.empty));
-  if (!finiteCells(obstacles) || !finiteCells(free)) return fail("its local grid has NaN or infinite cells");
-  if (obstacles.empty() && free.empty()) {
-    return fail("its local grid has only 3D empty cells, which a 2D map does not use");
-  }
-  NodeCells n(obstacles.points, free.points, impl_->o.cellSize);
+  std::string problem;
+  std::optional<NodeCells> n = nodeCellsOf(grid, impl_->o.cellSize, problem);
+  if (!n) return fail(problem);
   if (impl_->assembled.count(nodeId)) impl_->replaced.insert(nodeId);
-  impl_->cache[nodeId] = std::move(n);
+  auto [it, inserted] = impl_->cache.try_emplace(nodeId);
+  if (inserted || it->second.evicted) ++impl_->resident;
+  it->second = std::move(*n);
+  impl_->forgetRecent(nodeId);
   return true;
 }
 
 bool OccupancyGrid::hasLocalGrid(int nodeId) const { return impl_->cache.count(nodeId) > 0; }
-void OccupancyGrid::removeLocalGrid(int nodeId) { impl_->cache.erase(nodeId); }
+void OccupancyGrid::removeLocalGrid(int nodeId) {
+  auto it = impl_->cache.find(nodeId);
+  if (it == impl_->cache.end()) return;
+  if (!it->second.evicted) --impl_->resident;
+  impl_->cache.erase(it);
+  impl_->forgetRecent(nodeId);
+}
 size_t OccupancyGrid::cachedNodes() const { return impl_->cache.size(); }
+size_t OccupancyGrid::residentNodes() const { return impl_->resident; }
+void OccupancyGrid::setGridLoader(GridLoader loader) { impl_->loader = std::move(loader); }
+
+bool OccupancyGrid::evictLocalGrid(int nodeId) {
+  auto it = impl_->cache.find(nodeId);
+  if (it == impl_->cache.end() || !impl_->loader) return false;
+  NodeCells& n = it->second;
+  if (!n.evicted) {
+    NodeCells cells = std::move(n);  // among the recent ones until others push it out
+    n.lo = cells.lo;
+    n.hi = cells.hi;
+    n.radius = cells.radius;
+    n.cells = cells.cells;
+    n.evict();
+    --impl_->resident;
+    impl_->remember(nodeId, std::move(cells));
+  }
+  return true;
+}
 GridUpdateSummary OccupancyGrid::update(const std::map<int, Transform>& poses) { return impl_->update(poses); }
 void OccupancyGrid::forceNextPath(GridUpdateSummary::Path path) { impl_->forced = path; }
 
@@ -336,7 +533,7 @@ float OccupancyGrid::probability(double x, double y) const {
 const std::map<int, Transform>& OccupancyGrid::assembledPoses() const { return impl_->assembled; }
 
 size_t OccupancyGrid::memoryUsed() const {
-  size_t bytes = impl_->storage.bytes();
+  size_t bytes = impl_->storage.bytes() + impl_->recentBytes + impl_->recent.size() * 48;
   for (const auto& [id, n] : impl_->cache) bytes += n.bytes();
   for (const auto& [id, t] : impl_->tilesOf) bytes += t.size() * sizeof(int64_t) + sizeof(Transform) + 64;
   return bytes;
@@ -344,7 +541,9 @@ size_t OccupancyGrid::memoryUsed() const {
 
 void OccupancyGrid::clear() {
   const GlobalGridOptions o = impl_->o;
+  GridLoader loader = std::move(impl_->loader);
   impl_ = std::make_unique<Impl>(o);
+  impl_->loader = std::move(loader);
 }
 
 }  // namespace rtabmap

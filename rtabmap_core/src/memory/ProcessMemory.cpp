@@ -2,6 +2,9 @@
 
 #include <sqlite3.h>
 
+#include <cstdlib>
+#include <cstring>
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -25,6 +28,33 @@ size_t heapFree() {
 #endif
 }
 
+HeapStats heapStats() {
+  HeapStats h;
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 m = mallinfo2();
+  h.inUse = m.uordblks + m.hblkhd;
+  h.free = m.fordblks;
+#endif
+  return h;
+}
+
 size_t sqliteInUse() { return static_cast<size_t>(sqlite3_memory_used()); }
+
+bool configureAllocator() {
+#if defined(__GLIBC__)
+  static const bool applied = [] {
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    if (std::getenv("MALLOC_MMAP_THRESHOLD_") || std::getenv("MALLOC_TRIM_THRESHOLD_") ||
+        (tunables && std::strstr(tunables, "glibc.malloc."))) {
+      return false;  // the user's choice
+    }
+    return mallopt(M_MMAP_THRESHOLD, static_cast<int>(kMmapThreshold)) == 1 &&
+           mallopt(M_TRIM_THRESHOLD, static_cast<int>(kTrimThreshold)) == 1;
+  }();
+  return applied;
+#else
+  return false;
+#endif
+}
 
 }  // namespace rtabmap::memory

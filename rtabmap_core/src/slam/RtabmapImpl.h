@@ -116,6 +116,12 @@ struct Rtabmap::Impl {
   bool mappingUpdate(const SensorData& data, const Transform& odom);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
+  // The global grid drops the cells of the nodes that left for the LTM (read back on demand).
+  void evictTransferredGrids(const memory::LoopClosureUpdate& u) {
+    if (grid) {
+      for (int id : u.transferred) grid->evictLocalGrid(id);
+    }
+  }
 
   // RtabmapNode.cpp: what a new node is made of.
   memory::LocationInput makeLocation(const SensorData& data, const Transform& odom, const Covariance6& covariance);

@@ -44,6 +44,32 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
     db = std::make_unique<db::Database>(databasePath, dbOptions);
   }
   detector = std::make_unique<memory::LoopClosureDetector>(detectorOptions, db.get());
+  if (grid && db) {
+    // The global grid keeps the cells of Working Memory nodes only (issue 10): those of a node
+    // leaving it are read back, when a re-assembly replays the node, from the Working Memory
+    // (a retrieved node) or else from the local grid stored with the node.
+    grid->setGridLoader([this](const std::vector<int>& ids) {
+      std::map<int, LocalGrid> grids;
+      std::vector<int> stored;
+      const memory::Memory& memory = detector->memory();
+      for (int id : ids) {
+        const Signature* s = memory.signature(id);
+        if (s && !s->sensorData().localGrid().isEmpty()) {
+          grids.emplace(id, s->sensorData().localGrid());
+        } else {
+          stored.push_back(id);
+        }
+      }
+      if (!stored.empty()) {
+        db::LoadOptions gridOnly = db::LoadOptions::nodeOnly();
+        gridOnly.grid = true;
+        for (Signature& s : db->loadNodes(stored, gridOnly)) {
+          if (!s.sensorData().localGrid().isEmpty()) grids.emplace(s.id(), s.sensorData().localGrid());
+        }
+      }
+      return grids;
+    });
+  }
   mapId = 0;
   if (db) mapId = options.incremental ? db->sessionMapId() : std::max(0, db->lastMapId());
   if (db && db->lastNodeId() > 0) loadExistingMap();
@@ -100,7 +126,10 @@ void Rtabmap::Impl::loadLocalGrids(const std::vector<int>& ids) {
   for (size_t i = 0; i < ids.size(); i += kBatch) {
     const std::vector<int> batch(ids.begin() + i, ids.begin() + std::min(ids.size(), i + kBatch));
     for (const Signature& s : db->loadNodes(batch, gridOnly)) {
-      if (!s.sensorData().localGrid().isEmpty()) grid->addLocalGrid(s.id(), s.sensorData().localGrid());
+      if (s.sensorData().localGrid().isEmpty()) continue;
+      grid->addLocalGrid(s.id(), s.sensorData().localGrid());
+      // Out of the Working Memory: only what the map needs to know about it stays in RAM.
+      if (!detector->memory().signature(s.id())) grid->evictLocalGrid(s.id());
     }
   }
 }

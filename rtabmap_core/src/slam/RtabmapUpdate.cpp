@@ -220,7 +220,11 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
       StageTimer t(stats, Statistics::kTimingMap_assembling);
       const Signature* s = memory.signature(newId);
       if (s && !s->sensorData().localGrid().isEmpty()) grid->addLocalGrid(newId, s->sensorData().localGrid());
-      grid->update(graph.posesOfGroup(mapId));
+      const GridUpdateSummary g = grid->update(graph.posesOfGroup(mapId));
+      // Cells of nodes out of the Working Memory read back for this re-assembly (issue 10).
+      stats.addStatistic("Memory/Grid_nodes_read_back/", static_cast<float>(g.nodesLoaded));
+      stats.addStatistic("Memory/Grid_nodes_not_read_back/", static_cast<float>(g.nodesNotLoaded));
+      stats.addStatistic("Timing/Grid_read_back/ms", static_cast<float>(g.loadMs));
     }
   } else if (u.highest.accepted && !newLinks.empty()) {
     ++summary.loopClosures;
@@ -238,6 +242,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     stats.addStatistic(Statistics::kMemoryImmunized_locally, static_cast<float>(local.size()));
     const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     detector->manageMemory(immune, elapsed, vocabularyAtStart, u);
+    evictTransferredGrids(u);
   }
   summary.transferred += static_cast<int>(u.transferred.size());
   summary.retrieved += static_cast<int>(u.retrieved.size());
@@ -315,6 +320,7 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
   memory.removeLastLocation();
   graph.erase(tempId);
   detector->manageMemory(immune, 0.0, vocabularyAtStart, u);
+  evictTransferredGrids(u);
   summary.transferred += static_cast<int>(u.transferred.size());
   summary.retrieved += static_cast<int>(u.retrieved.size());
   const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -347,10 +353,14 @@ void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nod
   // Where the RAM goes (the soak's memory goal): live heap, what malloc keeps free, SQLite's
   // caches, and the global grid's per-node cells (the one cache of the whole map, LTM included).
   constexpr float kMb = 1.0f / (1024.0f * 1024.0f);
-  stats.addStatistic(Statistics::kMemoryRAM_usage, static_cast<float>(rtabmap::memory::heapInUse()) * kMb);
-  stats.addStatistic("Memory/Heap_free/MB", static_cast<float>(rtabmap::memory::heapFree()) * kMb);
+  const rtabmap::memory::HeapStats heap = rtabmap::memory::heapStats();
+  stats.addStatistic(Statistics::kMemoryRAM_usage, static_cast<float>(heap.inUse) * kMb);
+  stats.addStatistic("Memory/Heap_free/MB", static_cast<float>(heap.free) * kMb);
   stats.addStatistic(Statistics::kMemoryDatabase_memory_used, static_cast<float>(rtabmap::memory::sqliteInUse()) * kMb);
-  if (grid) stats.addStatistic("Memory/Grid_memory_used/MB", static_cast<float>(grid->memoryUsed()) * kMb);
+  if (grid) {
+    stats.addStatistic("Memory/Grid_memory_used/MB", static_cast<float>(grid->memoryUsed()) * kMb);
+    stats.addStatistic("Memory/Grid_nodes_resident/", static_cast<float>(grid->residentNodes()));
+  }
   stats.addStatistic(Statistics::kTimingTotal, static_cast<float>(totalMs));
   if (db && options.incremental) {
     // What is safe on disk: every node up to this one survives a crash (the writer commits in

@@ -450,3 +450,146 @@ TEST(OccupancyGrid, LocalGridOptionsValidation) {
   EXPECT_FLOAT_EQ(fromParams.cellSize, 0.1f);
   EXPECT_FLOAT_EQ(fromParams.depthRoiRatios[3], 0.2f);
 }
+
+// Issue 10: nodes out of the Working Memory keep no cells in RAM; a re-assembly reads the cells
+// of those it replays back through the loader, and the map is the one built with every node in
+// RAM, whichever path runs.
+TEST(OccupancyGrid, EvictedNodesAreReadBackByReassembliesAndTheMapIsUnchanged) {
+  const ScanRun run = corridorRun(40);
+  // The loop closure: the last ten nodes move 0.3 m, over the cells of the first ones.
+  std::map<int, Transform> closed = run.poses;
+  for (int id = 31; id <= 40; ++id) closed[id] = Transform(-0.3, 0.2, 0.05) * closed[id];
+  const std::map<int, Transform> shiftedAll = shifted(closed, Transform(0.4, -0.2, 0.1));
+
+  for (Path path : {Path::kRegion, Path::kFull}) {
+    SCOPED_TRACE(pathName(path));
+    GlobalGridOptions noCache = options();
+    noCache.ltmCacheSize = 0.0f;  // every evicted node replayed is read back
+    OccupancyGrid inRam(options()), evicting(noCache);
+    std::vector<std::vector<int>> asked;
+    evicting.setGridLoader([&](const std::vector<int>& ids) {
+      asked.push_back(ids);
+      std::map<int, LocalGrid> out;
+      for (int id : ids) out[id] = run.grids.at(id);
+      return out;
+    });
+    std::map<int, Transform> graph;
+    for (const auto& [id, pose] : run.poses) {
+      ASSERT_TRUE(inRam.addLocalGrid(id, run.grids.at(id)));
+      ASSERT_TRUE(evicting.addLocalGrid(id, run.grids.at(id)));
+      graph[id] = pose;
+      inRam.update(graph);
+      evicting.update(graph);
+      if (id > 10) {
+        ASSERT_TRUE(evicting.evictLocalGrid(id - 10));  // a Working Memory of 10 nodes
+      }
+    }
+    EXPECT_TRUE(asked.empty()) << "appending needs no evicted cells";
+    EXPECT_EQ(evicting.cachedNodes(), 40u);
+    EXPECT_EQ(evicting.residentNodes(), 10u);
+    EXPECT_TRUE(evicting.hasLocalGrid(1));
+    EXPECT_LT(evicting.memoryUsed(), inRam.memoryUsed());
+    expectSameMap(inRam.map(), evicting.map());
+
+    for (const auto& poses : {closed, shiftedAll}) {
+      inRam.forceNextPath(path);
+      evicting.forceNextPath(path);
+      const GridUpdateSummary a = inRam.update(poses), b = evicting.update(poses);
+      EXPECT_EQ(b.path, path);
+      EXPECT_EQ(a.nodesReplayed, b.nodesReplayed);
+      EXPECT_EQ(a.cellUpdates, b.cellUpdates);
+      EXPECT_EQ(a.nodesLoaded, 0);
+      EXPECT_GT(b.nodesLoaded, 0) << "the re-assembly replayed no evicted node: the test proves nothing";
+      EXPECT_EQ(b.nodesNotLoaded, 0);
+      expectSameMap(inRam.map(), evicting.map());
+    }
+    EXPECT_EQ(evicting.residentNodes(), 10u) << "cells read back are not kept";
+    for (const std::vector<int>& ids : asked) EXPECT_LE(ids.size(), 64u);
+  }
+}
+
+// The same, with a loader that has lost the cells: the evicted nodes are left out (and counted),
+// so a re-assembly that needed them gives another map. What the test above would see if an
+// evicted node's cells were missing.
+TEST(OccupancyGrid, EvictedNodesTheLoaderCannotGiveBackAreLeftOutAndCounted) {
+  const ScanRun run = corridorRun(20);
+  GlobalGridOptions noCache = options();
+  noCache.ltmCacheSize = 0.0f;
+  OccupancyGrid inRam(options()), lossy(noCache);
+  EXPECT_FALSE(lossy.evictLocalGrid(1)) << "no loader: nothing to read the cells back from";
+  lossy.setGridLoader(
+      [&](const std::vector<int>& ids) {
+        std::map<int, LocalGrid> out;
+        for (int id : ids) {
+          if (id % 2) out[id] = run.grids.at(id);  // even nodes lost
+        }
+        out[1] = run.grids.at(20);  // and node 1 comes back as another node's grid
+        return out;
+      });
+  for (const auto& [id, g] : run.grids) {
+    inRam.addLocalGrid(id, g);
+    lossy.addLocalGrid(id, g);
+  }
+  inRam.update(run.poses);
+  lossy.update(run.poses);
+  for (int id = 1; id <= 10; ++id) ASSERT_TRUE(lossy.evictLocalGrid(id));
+  EXPECT_FALSE(lossy.evictLocalGrid(99));
+  const std::map<int, Transform> moved = shifted(run.poses, Transform(0.2, 0.1, 0.02));
+  inRam.forceNextPath(Path::kFull);
+  lossy.forceNextPath(Path::kFull);
+  inRam.update(moved);
+  const GridUpdateSummary s = lossy.update(moved);
+  EXPECT_EQ(s.nodesLoaded, 4);     // 3 5 7 9
+  EXPECT_EQ(s.nodesNotLoaded, 6);  // 1 (not its grid) 2 4 6 8 10
+  const GridMap a = inRam.map(), b = lossy.map();
+  EXPECT_TRUE(a.data.size() != b.data.size() || cv::countNonZero(a.data != b.data) > 0);
+  // A node evicted and added again is in RAM again, counted once.
+  lossy.addLocalGrid(2, run.grids.at(2));
+  EXPECT_EQ(lossy.residentNodes(), 11u);
+  lossy.removeLocalGrid(3);
+  lossy.removeLocalGrid(12);
+  EXPECT_EQ(lossy.residentNodes(), 10u);
+  EXPECT_EQ(lossy.cachedNodes(), 18u);
+}
+
+// The cells of the evicted nodes used last stay in RAM within the budget: a second re-assembly
+// over the same old nodes reads nothing back, and the map is still the same.
+TEST(OccupancyGrid, RecentlyUsedEvictedCellsAreKeptWithinTheBudget) {
+  const ScanRun run = corridorRun(30);
+  int reads = 0;
+  auto loader = [&](const std::vector<int>& ids) {
+    reads += static_cast<int>(ids.size());
+    std::map<int, LocalGrid> out;
+    for (int id : ids) out[id] = run.grids.at(id);
+    return out;
+  };
+  GlobalGridOptions smallCache = options(), largeCache = options();
+  smallCache.ltmCacheSize = 60.0f / 1024.0f;  // 60 KB: a few nodes' cells
+  largeCache.ltmCacheSize = 8.0f;             // all of them
+  OccupancyGrid inRam(options()), small(smallCache), large(largeCache);
+  small.setGridLoader(loader);
+  large.setGridLoader(loader);
+  for (OccupancyGrid* g : {&inRam, &small, &large}) {
+    for (const auto& [id, grid] : run.grids) g->addLocalGrid(id, grid);
+    g->update(run.poses);
+  }
+  for (int id = 1; id <= 25; ++id) {
+    ASSERT_TRUE(small.evictLocalGrid(id));
+    ASSERT_TRUE(large.evictLocalGrid(id));
+  }
+  const size_t smallBytes = small.memoryUsed(), largeBytes = large.memoryUsed();
+  EXPECT_LT(smallBytes, largeBytes);
+  EXPECT_LE(largeBytes, inRam.memoryUsed() + 25 * 512);  // evicted but kept: the same cells
+  for (int k = 1; k <= 3; ++k) {
+    const std::map<int, Transform> moved = shifted(run.poses, Transform(0.1 * k, 0.05, 0.02 * k));
+    for (OccupancyGrid* g : {&inRam, &small, &large}) g->forceNextPath(Path::kFull);
+    inRam.update(moved);
+    const GridUpdateSummary s = small.update(moved), l = large.update(moved);
+    EXPECT_EQ(l.nodesLoaded, 0);
+    EXPECT_GE(s.nodesLoaded, 10);  // the budget holds some 14 of the 25
+    EXPECT_EQ(s.nodesNotLoaded + l.nodesNotLoaded, 0);
+    expectSameMap(inRam.map(), small.map());
+    expectSameMap(inRam.map(), large.map());
+  }
+  EXPECT_LE(small.memoryUsed(), smallBytes + 4096) << "the budget holds";
+}

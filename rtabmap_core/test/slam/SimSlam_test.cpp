@@ -9,7 +9,12 @@
 #include <iostream>
 #include <iterator>
 
+#include <opencv2/core.hpp>
+
 #include "SimSlam.h"
+#include "common/TestData.h"
+#include "rtabmap_core/eval/DatasetReader.h"
+#include "rtabmap_core/maps/OccupancyGrid.h"
 
 namespace rtabmap {
 namespace {
@@ -173,6 +178,57 @@ TEST(SimSlam, AMergeRefusedByTheGraphIsRedoneToo) {
   std::string which;
   EXPECT_LT(test::worstLinkError(between, groundTruth, {Link::kGlobalClosure}, &count, &which), 0.25) << which;
   EXPECT_GE(count, 3) << "session 3 is merged through its true closures";
+}
+
+
+// Issue 10: with Working Memory bounded, the global grid keeps in RAM the cells of Working Memory
+// nodes only; the loop closure's re-assemblies read those of Long-Term Memory nodes back from the
+// database. The grid is then the one built with every node's local grid in RAM at the same poses.
+TEST(SimSlam, GridReassembliesReadLongTermMemoryCellsBackAndGiveTheSameMap) {
+  REQUIRE_SIM(folder, "loop");
+  test::TempDir dir("rtabmap_slam_grid_ltm");
+  ParametersMap p = test::simSlamParameters();
+  p["Rtabmap/MemoryThr"] = "30";
+  p["GridGlobal/UpdateError"] = "0";  // every node assembled at its pose of the graph, to the bit
+  p["GridGlobal/LtmCacheSize"] = "0.05";  // 50 KB: most replays of LTM nodes read them back
+  std::unique_ptr<DatasetReader> reader = openDatasetReader("sim", folder);
+  Rtabmap slam;
+  slam.init(p, dir.file("rtabmap.db"));
+  DatasetRecord record;
+  float readBack = 0.0f, notReadBack = 0.0f, maxResident = 0.0f;
+  while (reader->next(record)) {
+    if (record.kind != DatasetRecord::Kind::kFrame || !slam.process(record.data)) continue;
+    const auto& d = slam.statistics().data();
+    auto get = [&d](const char* key) { return d.count(key) ? d.at(key) : 0.0f; };
+    readBack += get("Memory/Grid_nodes_read_back/");
+    notReadBack += get("Memory/Grid_nodes_not_read_back/");
+    maxResident = std::max(maxResident, get("Memory/Grid_nodes_resident/"));
+  }
+  const std::map<int, Transform> poses = slam.optimizedPoses();
+  ASSERT_GT(poses.size(), 100u);
+  EXPECT_GT(slam.summary().transferred, 50);
+  EXPECT_GT(readBack, 0.0f) << "no re-assembly replayed a node of the LTM: the test proves nothing";
+  EXPECT_EQ(notReadBack, 0.0f);
+  // Working Memory (30) + STM + the nodes retrieved this update, not the map.
+  EXPECT_LT(maxResident, 60.0f);
+  EXPECT_GT(maxResident, 0.0f);
+
+  OccupancyGrid inRam(GlobalGridOptions::fromParameters(p));
+  for (const auto& [id, pose] : poses) {
+    const std::optional<Signature> n = slam.node(id);
+    ASSERT_TRUE(n) << id;
+    if (!n->sensorData().localGrid().isEmpty()) {
+      ASSERT_TRUE(inRam.addLocalGrid(id, n->sensorData().localGrid()));
+    }
+  }
+  inRam.update(poses);
+  const GridMap expected = inRam.map(), actual = slam.gridMap();
+  ASSERT_FALSE(expected.empty());
+  ASSERT_EQ(expected.data.size(), actual.data.size());
+  EXPECT_DOUBLE_EQ(expected.originX, actual.originX);
+  EXPECT_DOUBLE_EQ(expected.originY, actual.originY);
+  EXPECT_EQ(cv::countNonZero(expected.data != actual.data), 0);
+  slam.close();
 }
 
 }  // namespace

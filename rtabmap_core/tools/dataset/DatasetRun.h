@@ -27,6 +27,7 @@ struct RunOptions {
   bool wheelOdometryGuess = false;  // --guess-odom
   bool ateInCameraFrame = false;    // --ate-frame camera
   std::string framesCsv;            // --frames-csv: one line of odometry figures per frame
+  std::string updatesCsv;           // --updates-csv: one line of SLAM figures per map update
   // --odom wheel: the dataset's own wheel odometry is the odometry (no registration).
   bool wheelOdometry = false;
   // Mapping (--slam, --continue, --localization): Rtabmap over the odometry's frames.

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <string>
 
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/db/Database.h"
@@ -20,6 +22,27 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(i, v.size() - 1)];
 }
 
+// The process's resident size (MB), from /proc: all of it, anonymous (heap, arenas, mapped
+// blocks) and file-backed (code, mapped files); 0 where there is none.
+struct Resident {
+  double total = 0.0, anon = 0.0, file = 0.0;
+};
+Resident residentMb() {
+  Resident r;
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  auto field = [&line](const char* key, double& out) {
+    const size_t n = std::char_traits<char>::length(key);
+    if (line.compare(0, n, key) == 0) out = std::stod(line.substr(n)) / 1024.0;  // kB
+  };
+  while (std::getline(status, line)) {
+    field("VmRSS:", r.total);
+    field("RssAnon:", r.anon);
+    field("RssFile:", r.file);
+  }
+  return r;
+}
+
 }  // namespace
 
 SlamStage::SlamStage(const RunOptions& run, const SlamRunOptions& options) : run_(run), options_(options) {
@@ -34,6 +57,12 @@ SlamStage::SlamStage(const RunOptions& run, const SlamRunOptions& options) : run
   // A map for navigation is the point of a dataset run: local grids unless told otherwise.
   parameters.emplace(Parameters::kRGBDCreateOccupancyGrid(), "true");
   rtabmap_.init(parameters, options_.database);
+  if (!run_.updatesCsv.empty()) {
+    updatesCsv_.open(run_.updatesCsv);
+    if (!updatesCsv_) throw Error("cannot write " + run_.updatesCsv);
+    updatesCsv_ << "node,nodes,wm,update_ms,map_assembling_ms,rss_mb,heap_mb,heap_free_mb,sqlite_mb,grid_mb,"
+                   "rss_anon_mb,rss_file_mb,grid_read_back\n";
+  }
 }
 
 void SlamStage::process(const FrameResult& frame, const SensorData& data) {
@@ -53,6 +82,19 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
     if (id > 0 && !nodeStamps_.count(id)) {
       nodeStamps_[id] = frame.stamp;
       nodeOdometry_[id] = frame.pose;
+    }
+    if (updatesCsv_.is_open()) {
+      const auto& d = rtabmap_.statistics().data();
+      auto get = [&d](const char* key) {
+        auto it = d.find(key);
+        return it == d.end() ? -1.0 : static_cast<double>(it->second);
+      };
+      const Resident rss = residentMb();
+      updatesCsv_ << id << ',' << nodeStamps_.size() << ',' << get("Memory/Working_memory_size/") << ',' << ms << ','
+                  << get("Timing/Map_assembling/ms") << ',' << rss.total << ',' << get("Memory/RAM_usage/MB") << ','
+                  << get("Memory/Heap_free/MB") << ',' << get("Memory/Database_memory_used/MB") << ','
+                  << get("Memory/Grid_memory_used/MB") << ',' << rss.anon << ',' << rss.file << ','
+                  << get("Memory/Grid_nodes_read_back/") << '\n';
     }
   }
   if (rtabmap_.lastNodeId() > 0) frameRefs_.push_back({frame.stamp, rtabmap_.lastNodeId(), frame.pose});

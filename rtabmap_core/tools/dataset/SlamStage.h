@@ -3,6 +3,7 @@
 // at the end the optimised trajectory, the grid and the figures of the run are written.
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
@@ -52,6 +53,7 @@ class SlamStage {
   std::vector<double> updateMs_;
   std::map<std::string, std::vector<double>> stageMs_;  // Timing/... statistic -> per update
   double wallSeconds_ = 0.0;
+  std::ofstream updatesCsv_;  // --updates-csv
   std::map<int, Transform> finalPoses_;
   int sessions_ = 0;
   int frames_ = 0;

@@ -12,6 +12,7 @@
 #include "common/Json.h"
 #include "common/ProgressBar.h"
 #include "dataset/DatasetRun.h"
+#include "rtabmap_core/memory/ProcessMemory.h"
 
 namespace {
 
@@ -34,6 +35,7 @@ std::vector<std::string> takeJsonPath(int argc, char** argv, std::string& jsonPa
 
 int main(int argc, char** argv) {
   using namespace rtabmap;
+  memory::configureAllocator();  // as the rtabmap node: a long run's allocator (issue 10)
   return tools::runTool("rtabmap-dataset", [&] {
     std::string jsonPath;
     std::vector<std::string> args = takeJsonPath(argc, argv, jsonPath);
@@ -73,6 +75,11 @@ int main(int argc, char** argv) {
     cli.addOption("frames-csv", "FILE",
                   "Write one CSV line per frame: id, stamp, lost, features, matches, inliers, key frame, "
                   "local map size, time, position, ground-truth position, lost reason.");
+    cli.addOption("updates-csv", "FILE",
+                  "With --slam, write one CSV line per map update: node id, nodes in the map, Working Memory "
+                  "size, update time, Map_assembling time (ms), the process's resident size (VmRSS), live heap, "
+                  "heap kept free, SQLite and global grid memory, resident anonymous and file-backed memory "
+                  "(MB), nodes whose grid cells were read back from the database.");
     cli.addOption("threads", "N", "OpenCV threads (0 = OpenCV's default, 1 = single core as the bench).", "0");
     cli.addNote("With --json, the last stdout line is a JSON object: frames, lost, key_frames, odom_ms_median, "
                 "odom_ms_mean, odom_ms_max, odom_ate_rmse (and mean, median, max) when there is ground truth; "
@@ -114,6 +121,7 @@ int main(int argc, char** argv) {
     options.reader.imu = false;
     options.wheelOdometryGuess = cli.flag("guess-odom");
     if (cli.has("frames-csv")) options.framesCsv = cli.option("frames-csv");
+    if (cli.has("updates-csv")) options.updatesCsv = cli.option("updates-csv");
     const std::string ateFrame = cli.option("ate-frame");
     if (ateFrame != "base" && ateFrame != "camera") throw tools::UsageError("--ate-frame must be base or camera");
     options.ateInCameraFrame = ateFrame == "camera";

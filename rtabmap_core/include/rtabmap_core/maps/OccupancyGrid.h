@@ -25,9 +25,21 @@
 //    at their old and new poses, clear only those tiles, replay (in id order) the nodes whose
 //    bounds overlap them, writing only inside them.
 // update() picks the cheaper path per update from the work each needs (cells to replay and to
-// clear) and the time per unit each path has taken so far (measured; both start from the same
-// prior), unless GridGlobal/FullUpdate is false, which forces the region path. The summary says
-// which path ran and why.
+// clear, cells to read back, see below) and the time per unit each path has taken so far
+// (measured; both start from the same prior), unless GridGlobal/FullUpdate is false, which
+// forces the region path. The summary says which path ran and why.
+//
+// Memory (issue 10). A re-assembly may replay any node of the map, so every node's cells are
+// needed; kept in RAM they cost a few KB per node for the whole map, Long-Term Memory included.
+// With a loader (setGridLoader: Rtabmap reads the local grid stored with the node in the
+// database), evictLocalGrid() drops a node's cells from RAM when it leaves the Working Memory;
+// what deciding a re-assembly needs (bounds, cell count, the tiles it was applied to) stays,
+// a few hundred bytes a node. A re-assembly reads the cells of the evicted nodes it replays back in
+// batches: the map is the same bit for bit. The cells of the evicted nodes used last (just
+// evicted, or read back) stay in RAM up to a fixed budget (GridGlobal/LtmCacheSize, 4 MB: ~1,200
+// nodes of a 30 m laser): the re-assemblies of a revisited area replay the same old nodes update
+// after update, and reading them back each time would cost more than the assembly itself.
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -55,6 +67,7 @@ struct GlobalGridOptions {
   bool eroded = false;            // GridGlobal/Eroded
   int maxNodes = 0;               // GridGlobal/MaxNodes
   float altitudeDelta = 0.0f;     // GridGlobal/AltitudeDelta (m)
+  float ltmCacheSize = 4.0f;      // GridGlobal/LtmCacheSize (MB), see setGridLoader()
 
   static GlobalGridOptions fromParameters(const ParametersMap& parameters);
   // Reasons name the key: cell size <= 0, ProbHit <= 0.5, ProbMiss >= 0.5, clamping bounds out of
@@ -78,6 +91,9 @@ struct GridUpdateSummary {
   long cellUpdates = 0;      // cell updates applied
   double estimatedRegionUnits = 0.0;  // the work estimates the choice compared
   double estimatedFullUnits = 0.0;
+  int nodesLoaded = 0;        // evicted nodes whose cells were read back through the loader
+  int nodesNotLoaded = 0;     // evicted nodes the loader did not give back (left out of the map)
+  double loadMs = 0.0;        // time reading them back (part of timeMs)
   double timeMs = 0.0;
 };
 const char* pathName(GridUpdateSummary::Path path);
@@ -97,9 +113,22 @@ class OccupancyGrid {
   // size different from the map's, cells that are not CV_32FC2/3/4, non-finite cells, or an
   // empty grid (which would add nothing and hide a failure upstream).
   bool addLocalGrid(int nodeId, const LocalGrid& grid, std::string* why = nullptr);
-  bool hasLocalGrid(int nodeId) const;
+  bool hasLocalGrid(int nodeId) const;  // cached, in RAM or evicted
   void removeLocalGrid(int nodeId);  // and its cells, at the next update
-  size_t cachedNodes() const;
+  size_t cachedNodes() const;        // in RAM or evicted
+  size_t residentNodes() const;      // not evicted (evicted ones may have theirs among the recent)
+
+  // Where evicted nodes' cells come back from: the local grids of the ids asked for (ids not
+  // found may be left out: those nodes are then missing from the re-assembled map, counted in
+  // GridUpdateSummary::nodesNotLoaded). Called from update() only, with at most a few hundred
+  // ids at a time. The grids must be the ones given to addLocalGrid().
+  using GridLoader = std::function<std::map<int, LocalGrid>(const std::vector<int>& ids)>;
+  // The RAM for the cells of evicted nodes used last is options().ltmCacheSize (0: every replay
+  // reads back).
+  void setGridLoader(GridLoader loader);
+  // Drops a node's cells from RAM (see Memory above). False, and nothing done, for a node not
+  // cached or without a loader set.
+  bool evictLocalGrid(int nodeId);
 
   // Brings the map to the given graph (node id -> pose, e.g. the optimised poses): appends new
   // nodes, re-assembles for moved or removed ones. Null or non-finite poses are ignored as
