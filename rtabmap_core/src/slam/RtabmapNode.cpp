@@ -1,6 +1,7 @@
 // What a new node is made of (Algorithm 2 with the metric parts of JFR 2019, 3.2): visual
 // words, local occupancy grid, compressed sensor data, odometry pose and link information; and
 // the registrations that give links their transforms.
+#include "OdometryPrior.h"
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
@@ -87,7 +88,8 @@ Link::InfMatrix refinedInformation(const RegistrationInfo& info, const Link& odo
 
 // RGBD/NeighborLinkRefining: the odometry link to the previous node re-estimated by
 // registration (ICP on scans typically), from odometry as guess. Wheel odometry drifts; the
-// scans do not.
+// scans do not, except along what they do not see (a corridor's axis), where
+// RGBD/NeighborLinkRefiningPrior keeps the odometry (OdometryPrior.h).
 void Rtabmap::Impl::refineNeighborLink(int newId) {
   memory::Memory& memory = detector->memory();
   Signature* current = memory.mutableSignature(newId);
@@ -113,7 +115,9 @@ void Rtabmap::Impl::refineNeighborLink(int newId) {
       continue;
     }
     stats.addStatistic(Statistics::kNeighborLinkRefiningICP_inliers_ratio, static_cast<float>(info.icpInliersRatio));
-    memory.addLink(Link(to, newId, Link::kNeighbor, t, refinedInformation(info, forward, options.covOffDiagIgnored)));
+    const Link::InfMatrix information = refinedInformation(info, forward, options.covOffDiagIgnored);
+    t = fuseWithOdometryPrior(t, information, forward.transform(), options.neighborLinkRefiningPrior);
+    memory.addLink(Link(to, newId, Link::kNeighbor, t, information));
     const Transform previousPose = graph.pose(to);
     if (!previousPose.isNull()) graph.setPose(newId, mapId, previousPose * t);
   }

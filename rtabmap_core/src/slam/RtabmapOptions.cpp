@@ -26,6 +26,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.force3DoF = P::getBool(p, P::kRegForce3DoF());
   o.loopClosureIdentityGuess = P::getBool(p, P::kRGBDLoopClosureIdentityGuess());
   o.neighborLinkRefining = P::getBool(p, P::kRGBDNeighborLinkRefining());
+  o.neighborLinkRefiningPrior = P::getFloat(p, P::kRGBDNeighborLinkRefiningPrior());
   o.loopCovLimited = P::getBool(p, P::kRGBDLoopCovLimited());
   o.proximityBySpace = P::getBool(p, P::kRGBDProximityBySpace());
   o.localRadius = P::getFloat(p, P::kRGBDLocalRadius());
@@ -75,6 +76,9 @@ bool RtabmapOptions::IsValid(std::string* why) const {
   if (!(proximityCorrelativeMinScore > 0.0f && proximityCorrelativeMinScore <= 1.0f) ||
       !(proximityCorrelativeMaxPeakRatio > 0.0f && proximityCorrelativeMaxPeakRatio <= 1.0f)) {
     return fail("RGBD/ProximityCorrelativeMinScore and RGBD/ProximityCorrelativeMaxPeakRatio must be in (0, 1]");
+  }
+  if (!(neighborLinkRefiningPrior >= 0.0f) || !std::isfinite(neighborLinkRefiningPrior)) {
+    return fail(Parameters::kRGBDNeighborLinkRefiningPrior() + " must be >= 0");
   }
   if (!(optimizeMaxError >= 0.0f)) return fail(Parameters::kRGBDOptimizeMaxError() + " must be >= 0");
   if (!incremental && !metric) {

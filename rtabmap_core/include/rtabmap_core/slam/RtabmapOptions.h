@@ -28,6 +28,7 @@ struct RtabmapOptions {
   bool force3DoF = false;                 // Reg/Force3DoF
   bool loopClosureIdentityGuess = false;  // RGBD/LoopClosureIdentityGuess
   bool neighborLinkRefining = false;      // RGBD/NeighborLinkRefining
+  float neighborLinkRefiningPrior = 0.0f; // RGBD/NeighborLinkRefiningPrior (fraction of the step)
   bool loopCovLimited = false;            // RGBD/LoopCovLimited
   // Proximity detection by space (SPLAM paper, 3.3.3)
   bool proximityBySpace = true;           // RGBD/ProximityBySpace
