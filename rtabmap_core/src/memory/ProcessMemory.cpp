@@ -11,28 +11,11 @@
 
 namespace rtabmap::memory {
 
-size_t heapInUse() {
-#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
-  const struct mallinfo2 m = mallinfo2();
-  return m.uordblks + m.hblkhd;  // chunks in use in the arenas + blocks mmap()ed on their own
-#else
-  return 0;
-#endif
-}
-
-size_t heapFree() {
-#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
-  return mallinfo2().fordblks;
-#else
-  return 0;
-#endif
-}
-
 HeapStats heapStats() {
   HeapStats h;
 #if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
   const struct mallinfo2 m = mallinfo2();
-  h.inUse = m.uordblks + m.hblkhd;
+  h.inUse = m.uordblks + m.hblkhd;  // chunks in use in the arenas + blocks mmap()ed on their own
   h.free = m.fordblks;
 #endif
   return h;

@@ -17,15 +17,18 @@ using rtabmap::sim::test::material;
 
 namespace {
 
-CameraIntrinsics smallIntrinsics() {
+// A pinhole camera of that size and focal length, its principal point at the image centre.
+CameraIntrinsics intrinsics(int width, int height, double focal) {
   CameraIntrinsics k;
-  k.width = 160;
-  k.height = 120;
-  k.fx = k.fy = 100.0;
-  k.cx = 79.5;
-  k.cy = 59.5;
+  k.width = width;
+  k.height = height;
+  k.fx = k.fy = focal;
+  k.cx = (width - 1) / 2.0;
+  k.cy = (height - 1) / 2.0;
   return k;
 }
+
+CameraIntrinsics smallIntrinsics() { return intrinsics(160, 120, 100.0); }
 
 }  // namespace
 
@@ -212,12 +215,7 @@ TEST(SimRenderer, TileVariantsBreakThePeriodOfLargeSurfaces) {
     world->finalize();
     return world;
   };
-  CameraIntrinsics k;
-  k.width = 320;
-  k.height = 240;
-  k.fx = k.fy = 260.0;
-  k.cx = 159.5;
-  k.cy = 119.5;
+  const CameraIntrinsics k = intrinsics(320, 240, 260.0);
   RenderOptions options;
   options.maxDepth = 15.0;  // the corridor's ends stay out of sight
   // Share of pixels whose grey level differs by more than 8 between two poses one period apart.

@@ -6,14 +6,11 @@
 
 namespace rtabmap::memory {
 
-// Bytes malloc handed out and did not get back, over all arenas (live heap data). 0 where the
-// C library cannot tell.
-size_t heapInUse();
-// Bytes malloc holds from the OS and keeps free for later allocations (0 where unknown): what a
-// resident size larger than heapInUse() is made of, besides code and stacks.
-size_t heapFree();
-// Both at once: glibc walks every free chunk of every arena to count them (a few ms on a
-// fragmented heap), once here instead of once per figure.
+// inUse: bytes malloc handed out and did not get back, over all arenas (live heap data);
+// free: bytes malloc holds from the OS and keeps free for later allocations, what a resident
+// size larger than inUse is made of besides code and stacks. Both 0 where the C library cannot
+// tell. One call for both: glibc walks every free chunk of every arena to count them (a few ms
+// on a fragmented heap).
 struct HeapStats {
   size_t inUse = 0, free = 0;
 };
