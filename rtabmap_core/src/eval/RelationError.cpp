@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 #include <sstream>
 
 #include "ReaderSupport.h"
@@ -91,6 +93,58 @@ RelationResult computeRelationError(const Trajectory& estimate, const std::vecto
   r.loopTranslation = computeErrorStats(loopT);
   r.loopRotation = computeErrorStats(loopR);
   return r;
+}
+
+RelationConsistency relationConsistency(const std::vector<Relation>& relations, double maxTimeDifference) {
+  // Instants: the relations' stamps, those within maxTimeDifference of the previous one merged.
+  std::vector<double> stamps;
+  for (const Relation& r : relations) {
+    stamps.push_back(r.stamp1);
+    stamps.push_back(r.stamp2);
+  }
+  std::sort(stamps.begin(), stamps.end());
+  std::vector<double> firstOfInstant;
+  for (double t : stamps) {
+    if (firstOfInstant.empty() || t - firstOfInstant.back() > maxTimeDifference) {
+      firstOfInstant.push_back(t);
+    }
+  }
+  auto instantOf = [&](double t) {
+    const auto it = std::upper_bound(firstOfInstant.begin(), firstOfInstant.end(), t);
+    return static_cast<int>(it - firstOfInstant.begin()) - 1;
+  };
+  // Sides from the earlier instant to the later one (a relation given backwards is inverted); the
+  // first relation of a pair of instants is the side.
+  std::map<std::pair<int, int>, Transform> sides;
+  std::map<int, std::vector<int>> later;  // instant -> the later instants it has a side to
+  for (const Relation& r : relations) {
+    const int a = instantOf(r.stamp1), b = instantOf(r.stamp2);
+    if (a == b) continue;
+    const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+    if (sides.count(key)) continue;
+    sides.emplace(key, a < b ? r.pose : r.pose.inverse());
+    later[key.first].push_back(key.second);
+  }
+  std::vector<double> translation, rotation;
+  for (const auto& [a, bs] : later) {
+    for (int b : bs) {
+      const auto bc = later.find(b);
+      if (bc == later.end()) continue;
+      for (int c : bc->second) {
+        const auto ac = sides.find({a, c});
+        if (ac == sides.end()) continue;
+        const Transform e = ac->second.inverse() * sides.at({a, b}) * sides.at({b, c});
+        translation.push_back(e.getNorm());
+        rotation.push_back(e.getAngle() * 180.0 / M_PI);
+      }
+    }
+  }
+  RelationConsistency out;
+  out.triangles = translation.size();
+  out.translation = computeErrorStats(translation);
+  out.rotation = computeErrorStats(rotation);
+  out.relationRms = out.translation.rmse / std::sqrt(3.0);
+  return out;
 }
 
 }  // namespace rtabmap

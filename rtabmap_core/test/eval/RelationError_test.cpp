@@ -110,6 +110,42 @@ TEST(RelationError, RelationsAreFrameIndependent) {
   EXPECT_NEAR(a.rotation.mean, b.rotation.mean, 1e-9);
 }
 
+// Triangles of a relations file: the sides a->b, b->c, a->c of a consistent file compose to the
+// identity, whichever way a side is given; a side off by 3 cm shows as 3 cm; instants match
+// within the stamp tolerance; pairs without a third side are no triangle.
+TEST(RelationError, ReferenceConsistencyFromTriangles) {
+  const Transform x1(0, 0, 0), x2(1, 0, M_PI / 2), x3(1, 1, M_PI / 2), x4(3, 1, 0);
+  auto relation = [](double t1, double t2, const Transform& a, const Transform& b) {
+    Relation r;
+    r.stamp1 = t1;
+    r.stamp2 = t2;
+    r.pose = a.inverse() * b;
+    return r;
+  };
+  std::vector<Relation> rel = {relation(1, 2, x1, x2), relation(2, 3, x2, x3), relation(3.0005, 1, x3, x1),
+                               relation(3, 4, x3, x4)};
+  rtabmap::RelationConsistency c = rtabmap::relationConsistency(rel);
+  EXPECT_EQ(c.triangles, 1u);
+  EXPECT_NEAR(c.translation.max, 0.0, 1e-12);
+  EXPECT_NEAR(c.rotation.max, 0.0, 1e-9);
+
+  rel[1].pose = Transform(0, 0.03, 0) * rel[1].pose;  // b->c 3 cm off
+  c = rtabmap::relationConsistency(rel);
+  ASSERT_EQ(c.triangles, 1u);
+  EXPECT_NEAR(c.translation.mean, 0.03, 1e-9);
+  EXPECT_NEAR(c.relationRms, 0.03 / std::sqrt(3.0), 1e-9);
+
+  rel.push_back(relation(1, 4, x1, x4));  // a second triangle 1-3-4, without the bad side
+  c = rtabmap::relationConsistency(rel);
+  EXPECT_EQ(c.triangles, 2u);
+  EXPECT_NEAR(c.translation.max, 0.03, 1e-9);
+  EXPECT_NEAR(c.translation.min, 0.0, 1e-9);
+
+  // 3.0005 is no longer instant 3: neither triangle has its side 1-3.
+  EXPECT_EQ(rtabmap::relationConsistency(rel, 1e-4).triangles, 0u);
+  EXPECT_TRUE(rtabmap::relationConsistency({relation(1, 2, x1, x2), relation(2, 3, x2, x3)}).triangles == 0);
+}
+
 TEST(RelationError, MalformedRelationsNameFileAndLine) {
   TempDir dir;
   writeText(dir.file("bad.relations"), "1.0 2.0 1 0 0 0 0 0\n1.0 2.0 1 0 0 0 0\n");

@@ -275,6 +275,14 @@ int relations(int argc, char** argv) {
     split("local relations (at most ", r.localTranslation, r.localRotation);
     split("loop relations (over ", r.loopTranslation, r.loopRotation);
   }
+  // What the reference itself can resolve: errors near a relation's own are not the estimate's.
+  const RelationConsistency c = relationConsistency(rel, options.maxTimeDifference);
+  if (c.triangles > 0) {
+    std::cout << "reference consistency (" << c.triangles << " triangles a->b->c of the relations): "
+              << fixed(c.translation.mean, 4) << " +/- " << fixed(c.translation.std, 4) << " m, "
+              << fixed(c.rotation.mean, 4) << " deg; a relation's own error ~" << fixed(c.relationRms, 4)
+              << " m RMS\n";
+  }
   if (cli.json()) {
     printJsonLine({{"command", "relations"},
                    {"relations_file", cli.option("relations")},
@@ -290,7 +298,11 @@ int relations(int argc, char** argv) {
                    {"local", {{"translation", statsJson(r.localTranslation)},
                               {"rotation_deg", statsJson(r.localRotation)}}},
                    {"loop", {{"translation", statsJson(r.loopTranslation)},
-                             {"rotation_deg", statsJson(r.loopRotation)}}}});
+                             {"rotation_deg", statsJson(r.loopRotation)}}},
+                   {"reference", {{"triangles", c.triangles},
+                                  {"translation", statsJson(c.translation)},
+                                  {"rotation_deg", statsJson(c.rotation)},
+                                  {"relation_rms", c.relationRms}}}});
   }
   return kExitSuccess;
 }
