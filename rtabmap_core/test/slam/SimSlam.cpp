@@ -43,27 +43,9 @@ std::string simDataset(const std::string& scenario, std::string* why) {
 }
 
 ParametersMap simSlamParameters() {
-  return {
-      {"Rtabmap/DetectionRate", "1"},
-      {"RGBD/CreateOccupancyGrid", "true"},
-      {"Grid/Sensor", "0"},
-      {"Reg/Strategy", "2"},
-      {"Reg/Force3DoF", "true"},
-      {"RGBD/ProximityPathMaxNeighbors", "5"},
-      // Wheel odometry is 2-4 degrees off in each turn; ICP on the laser scans corrects it.
-      {"RGBD/NeighborLinkRefining", "true"},
-      // Above the odometry drift of a loop (2.7 m), below the repeated rooms' aliasing (8 m).
-      {"RGBD/MaxLoopClosureDistance", "3"},
-      {"Icp/VoxelSize", "0.05"},
-      {"Icp/PointToPlane", "true"},
-      {"Icp/CorrespondenceRatio", "0.3"},
-      // Proximity guesses carry the odometry drift: correspondences are searched wider and
-      // the correction may be larger than between consecutive scans.
-      {"Icp/MaxCorrespondenceDistance", "0.3"},
-      {"Icp/Iterations", "50"},
-      {"Icp/MaxRotation", "0.5"},
-      {"Icp/MaxTranslation", "1"},
-  };
+  // The robot's parameters are declared once, in the repository's config/sim_robot.ini (the ROS
+  // demo's, the bench's): the tests run the robot users run.
+  return Parameters::readIni(std::string(RTABMAP_CORE_SOURCE_DIR) + "/../config/sim_robot.ini");
 }
 
 void runSimSlam(const std::string& folder, const ParametersMap& parameters, const std::string& database,

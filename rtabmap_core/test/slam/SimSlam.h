@@ -31,10 +31,10 @@ struct SimSlamRun {
 void runSimSlam(const std::string& folder, const ParametersMap& parameters, const std::string& database,
                 SimSlamRun& run);
 
-// Parameters of the sim tests: the robot of the simulator (RGB-D + laser, visual loop closure
-// refined by point-to-plane ICP, proximity by scans, 1 Hz, a 2 m bound on loop-closure
-// corrections as for a robot with decent wheel odometry: the simulator's materials repeat
-// every 4 m, so a corridor 4 or 8 m further on can look the same).
+// Parameters of the sim tests: the robot of the simulator as config/sim_robot.ini declares it
+// (RGB-D + laser, visual loop closure refined by point-to-plane ICP, proximity by scans, 1 Hz,
+// a 3 m bound on loop-closure corrections: the building's corridors and rooms repeat, so one
+// 4 or 8 m further on can look the same).
 ParametersMap simSlamParameters();
 
 // ATE RMSE (m) of `poses` against the ground truth of the same nodes, one rigid alignment.
