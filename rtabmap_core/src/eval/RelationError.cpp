@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <utility>
 #include <sstream>
+#include <utility>
 
 #include "ReaderSupport.h"
 #include "rtabmap_core/common/Error.h"

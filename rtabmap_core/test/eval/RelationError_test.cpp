@@ -143,7 +143,7 @@ TEST(RelationError, ReferenceConsistencyFromTriangles) {
 
   // 3.0005 is no longer instant 3: neither triangle has its side 1-3.
   EXPECT_EQ(rtabmap::relationConsistency(rel, 1e-4).triangles, 0u);
-  EXPECT_TRUE(rtabmap::relationConsistency({relation(1, 2, x1, x2), relation(2, 3, x2, x3)}).triangles == 0);
+  EXPECT_EQ(rtabmap::relationConsistency({relation(1, 2, x1, x2), relation(2, 3, x2, x3)}).triangles, 0u);
 }
 
 TEST(RelationError, MalformedRelationsNameFileAndLine) {
