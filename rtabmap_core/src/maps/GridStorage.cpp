@@ -140,13 +140,13 @@ void GridStorage::reset(const CellBox& b) {
   footprint_counts_.assign(footprint_ ? n : 0, 0);
   tilesW_ = width_ / kTile;
   tilesH_ = height_ / kTile;
-  dirty_.assign(size_t(tilesW_) * tilesH_, 0);
+  gate_.assign(size_t(tilesW_) * tilesH_, kGateClosed);
 }
 
 void GridStorage::release() {
   cells_.clear();
   footprint_counts_.clear();
-  dirty_.clear();
+  gate_.clear();
   width_ = height_ = tilesW_ = tilesH_ = 0;
 }
 
@@ -177,10 +177,11 @@ void GridStorage::ensureCovers(const CellBox& b) {
   col0_ = nc0; row0_ = nr0; width_ = nw; height_ = nh;
   tilesW_ = width_ / kTile;
   tilesH_ = height_ / kTile;
-  dirty_.assign(size_t(tilesW_) * tilesH_, 0);
+  gate_.assign(size_t(tilesW_) * tilesH_, kGateClosed);
 }
 
-long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, std::vector<int64_t>* tiles) {
+long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, std::vector<int64_t>* tiles,
+                        uint32_t key) {
   if (++serial_ == 0) {
     for (Cell& c : cells_) c.stamp = 0;
     serial_ = 1;
@@ -189,7 +190,7 @@ long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, 
   const uint16_t s = serial_;
   const unsigned w = static_cast<unsigned>(width_), h = static_cast<unsigned>(height_);
   Cell* const cells = cells_.data();
-  const uint8_t* const dirty = dirty_.data();
+  const uint32_t* const gate = gate_.data();
   const int tilesW = tilesW_, col0 = col0_, row0 = row0_;
   const int lo = min_, hi = max_;
   long updates = 0;
@@ -197,7 +198,7 @@ long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, 
   int cols[kChunk], rows[kChunk];
   if (tiles) tiles->clear();
   // Masked: a run of cells lies on a segment of the world; one whose segment (with a cell of
-  // slack for rounding) touches no dirty tile would write nothing, it is not projected.
+  // slack for rounding) touches no tile open to this node would write nothing, it is not projected.
   const float inv = 1.0f / cellSize_;
   const Affine a(pose);
   auto touchesDirty = [&](const cv::Point2f& p0, const cv::Point2f& p1) {
@@ -210,7 +211,7 @@ long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, 
     const int r1 = std::min(int(h) - 1, fastFloor(std::max(y0, y1)) + 1 - row0);
     for (int tr = r0 >> kTileShift; tr <= (r1 >> kTileShift) && r0 <= r1; ++tr) {
       for (int tc = c0 >> kTileShift; tc <= (c1 >> kTileShift) && c0 <= c1; ++tc) {
-        if (dirty[size_t(tr) * tilesW + tc]) return true;
+        if (key >= gate[size_t(tr) * tilesW + tc]) return true;
       }
     }
     return false;
@@ -225,7 +226,7 @@ long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, 
           continue;  // storage covers the node's box: only float rounding at a border lands here
         }
         const int tc = col >> kTileShift, tr = row >> kTileShift;
-        if (masked && !dirty[size_t(tr) * tilesW + tc]) continue;
+        if (masked && key < gate[size_t(tr) * tilesW + tc]) continue;
         if (tiles && (tc != lastTileCol || tr != lastTileRow)) {
           lastTileCol = tc;
           lastTileRow = tr;
@@ -266,9 +267,9 @@ bool GridStorage::tileInside(int64_t t) const {
 size_t GridStorage::tileIndex(int64_t t) const {
   return size_t(tileRow(t) - row0_ / kTile) * tilesW_ + (tileCol(t) - col0_ / kTile);
 }
-void GridStorage::clearDirty() { std::fill(dirty_.begin(), dirty_.end(), 0); }
+void GridStorage::clearDirty() { std::fill(gate_.begin(), gate_.end(), kGateClosed); }
 void GridStorage::markDirty(int64_t t) {
-  if (tileInside(t)) dirty_[tileIndex(t)] = 1;
+  if (tileInside(t) && gate_[tileIndex(t)] == kGateClosed) gate_[tileIndex(t)] = kGateOpen;
 }
 void GridStorage::markDirty(const CellBox& b) {
   if (b.empty()) return;
@@ -280,20 +281,48 @@ void GridStorage::markDirty(const CellBox& b) {
     }
   }
 }
-bool GridStorage::isDirty(int64_t t) const { return tileInside(t) && dirty_[tileIndex(t)]; }
+void GridStorage::markAllDirty() { std::fill(gate_.begin(), gate_.end(), kGateOpen); }
+bool GridStorage::isDirty(int64_t t) const { return tileInside(t) && gate_[tileIndex(t)] != kGateClosed; }
+void GridStorage::setGate(int64_t t, uint32_t g) {
+  if (isDirty(t)) gate_[tileIndex(t)] = g;
+}
 long GridStorage::dirtyTiles() const {
-  long n = 0;
-  for (uint8_t d : dirty_) n += d;
-  return n;
+  return static_cast<long>(std::count_if(gate_.begin(), gate_.end(), [](uint32_t g) { return g != kGateClosed; }));
+}
+std::vector<int64_t> GridStorage::dirtyTileKeys() const {
+  std::vector<int64_t> out;
+  for (int tr = 0; tr < tilesH_; ++tr) {
+    for (int tc = 0; tc < tilesW_; ++tc) {
+      if (gate_[size_t(tr) * tilesW_ + tc] != kGateClosed) out.push_back(tileKey(col0_ + tc * kTile, row0_ + tr * kTile));
+    }
+  }
+  return out;
 }
 void GridStorage::clearDirtyCells() {
   for (int tr = 0; tr < tilesH_; ++tr) {
     for (int tc = 0; tc < tilesW_; ++tc) {
-      if (!dirty_[size_t(tr) * tilesW_ + tc]) continue;
+      if (gate_[size_t(tr) * tilesW_ + tc] == kGateClosed) continue;
       for (int r = tr * kTile; r < (tr + 1) * kTile; ++r) {
         for (int c = tc * kTile; c < (tc + 1) * kTile; ++c) cells_[size_t(r) * width_ + c].logOdds = kUnknownFixed;
       }
     }
+  }
+}
+void GridStorage::captureTile(int64_t t, std::vector<int16_t>& out) const {
+  out.assign(kTileCells, kUnknownFixed);
+  if (!tileInside(t)) return;
+  const int c0 = tileCol(t) * kTile - col0_, r0 = tileRow(t) * kTile - row0_;
+  for (int r = 0; r < kTile; ++r) {
+    const Cell* src = cells_.data() + size_t(r0 + r) * width_ + c0;
+    for (int c = 0; c < kTile; ++c) out[size_t(r) * kTile + c] = src[c].logOdds;
+  }
+}
+void GridStorage::restoreTile(int64_t t, const std::vector<int16_t>& in) {
+  if (!tileInside(t) || in.size() != size_t(kTileCells)) return;
+  const int c0 = tileCol(t) * kTile - col0_, r0 = tileRow(t) * kTile - row0_;
+  for (int r = 0; r < kTile; ++r) {
+    Cell* dst = cells_.data() + size_t(r0 + r) * width_ + c0;
+    for (int c = 0; c < kTile; ++c) dst[c].logOdds = in[size_t(r) * kTile + c];
   }
 }
 
@@ -376,7 +405,7 @@ float GridStorage::logOddsAt(double x, double y) const {
 }
 
 size_t GridStorage::bytes() const {
-  return cells_.size() * sizeof(Cell) + footprint_counts_.size() * sizeof(uint16_t) + dirty_.size();
+  return cells_.size() * sizeof(Cell) + footprint_counts_.size() * sizeof(uint16_t) + gate_.size() * sizeof(uint32_t);
 }
 
 }  // namespace rtabmap::maps_detail

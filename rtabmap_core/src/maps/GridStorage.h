@@ -25,6 +25,15 @@ constexpr float kLogOddsScale = 1000.0f;
 constexpr int16_t kUnknownFixed = INT16_MIN;
 constexpr int kTileShift = 5;
 constexpr int kTile = 1 << kTileShift;
+constexpr int kTileCells = kTile * kTile;
+
+// Long-Term Memory layers (see OccupancyGrid.h). A node's layer key: the serial of its eviction
+// from the Working Memory, or kInWorkingMemory. A tile gate: a node writes a cell of a tile being
+// re-assembled iff its key >= the tile's gate; a layer captured at serial c holds the nodes with
+// a key below c, so its tile's gate is c. kGateClosed: the tile is not being re-assembled.
+constexpr uint32_t kGateClosed = UINT32_MAX;
+constexpr uint32_t kInWorkingMemory = UINT32_MAX - 1;
+constexpr uint32_t kGateOpen = 0;
 
 inline int fastFloor(float v) {
   const int i = static_cast<int>(v);
@@ -58,6 +67,7 @@ struct NodeCells {
   float radius = 0.0f;  // farthest cell from the node's origin, in the plane
   size_t cells = 0;     // obstacles.count() + free.count(), kept when evicted
   bool evicted = false;
+  uint32_t layerKey = kInWorkingMemory;  // see kGateClosed
 
   NodeCells() = default;
   NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells,
@@ -86,18 +96,27 @@ class GridStorage {
   void ensureCovers(const CellBox& b);  // grows, keeping the content
   void release();
 
-  // Applies a node. With `masked`, only cells of dirty tiles are written. `tiles` (optional)
-  // receives the world tiles its cells fell in, sorted. Returns the cell updates made.
-  long apply(const NodeCells& n, const Transform& pose, bool masked, std::vector<int64_t>* tiles);
+  // Applies a node. With `masked`, only cells of dirty tiles whose gate is at most `key` are
+  // written. `tiles` (optional) receives the world tiles its cells were written in, sorted.
+  // Returns the cell updates made.
+  long apply(const NodeCells& n, const Transform& pose, bool masked, std::vector<int64_t>* tiles,
+             uint32_t key = kInWorkingMemory);
   void addFootprint(const Transform& pose, float radius, int sign);
 
-  // Dirty tiles for the region path, in storage tiles.
-  void clearDirty();
-  void markDirty(int64_t worldTile);
+  // Dirty tiles (being re-assembled): a gate other than kGateClosed.
+  void clearDirty();                 // every gate closed
+  void markDirty(int64_t worldTile);  // gate open, unless already dirty
   void markDirty(const CellBox& b);
+  void markAllDirty();
   bool isDirty(int64_t worldTile) const;
+  uint32_t gate(int64_t worldTile) const { return tileInside(worldTile) ? gate_[tileIndex(worldTile)] : kGateClosed; }
+  void setGate(int64_t worldTile, uint32_t gate);  // of a dirty tile
   long dirtyTiles() const;
+  std::vector<int64_t> dirtyTileKeys() const;
   void clearDirtyCells();  // sets the cells of dirty tiles unknown
+  // A tile's log-odds (kTileCells, row-major; kUnknownFixed unknown) out of and into storage.
+  void captureTile(int64_t worldTile, std::vector<int16_t>& out) const;
+  void restoreTile(int64_t worldTile, const std::vector<int16_t>& in);
 
   // -1 / 0 / 100 over the known bounds, padded to minCells, footprint and erosion applied.
   GridMap toMap(float thresholdFixed, int minCells, bool eroded) const;  // threshold in thousandths
@@ -123,7 +142,7 @@ class GridStorage {
   std::vector<Cell> cells_;
   uint16_t serial_ = 0;
   std::vector<uint16_t> footprint_counts_;  // nodes whose footprint disk covers the cell
-  std::vector<uint8_t> dirty_;
+  std::vector<uint32_t> gate_;  // per storage tile
 };
 
 }  // namespace rtabmap::maps_detail

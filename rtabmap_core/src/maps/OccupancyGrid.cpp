@@ -130,6 +130,44 @@ class OccupancyGrid::Impl {
   // update, in the same order) keeps a part of them rather than pushing each out before its
   // next use.
   size_t rememberedNow = 0;
+  // Long-Term Memory layers (see OccupancyGrid.h): per world tile, the log-odds of the nodes in
+  // it whose layer key is below `capture`, composed when the tile was last re-assembled.
+  struct Layer {
+    std::vector<int16_t> cells;  // maps_detail::kTileCells
+    uint32_t capture = 0;
+  };
+  std::unordered_map<int64_t, Layer> layers;
+  uint32_t evictions = 0;  // serial of the last eviction: layer keys and captures
+
+  // A node whose cells change (moved, removed, replaced) leaves the layers it is in: they are
+  // dropped (their tiles are re-assembled from scratch next), and it is replayed from then on
+  // until it is evicted again. A retrieved node optimised with the Working Memory takes this
+  // path once, not at every update.
+  void leaveLayers(int id) {
+    auto c = cache.find(id);
+    if (c == cache.end() || c->second.layerKey == maps_detail::kInWorkingMemory) return;
+    auto t = tilesOf.find(id);
+    if (t != tilesOf.end()) {
+      for (int64_t k : t->second) {
+        auto l = layers.find(k);
+        if (l != layers.end() && c->second.layerKey < l->second.capture) layers.erase(l);
+      }
+    }
+    c->second.layerKey = maps_detail::kInWorkingMemory;
+  }
+  // A node evicted before it was assembled is in no layer yet: a key from this update's capture
+  // on (see update()).
+  void restamp(const std::vector<int>& added) {
+    for (int id : added) {
+      NodeCells& n = cache.at(id);
+      if (n.layerKey != maps_detail::kInWorkingMemory) n.layerKey = ++evictions;
+    }
+  }
+  // Whether a node writes in tile t when t is re-assembled: t has no layer or the node is not in it.
+  bool writesIn(int id, int64_t t) const {
+    auto l = layers.find(t);
+    return l == layers.end() || cache.at(id).layerKey >= l->second.capture;
+  }
 
   const NodeCells* recentCells(int id) {
     auto it = recent.find(id);
@@ -167,6 +205,11 @@ class OccupancyGrid::Impl {
 
   bool appendOnly(const std::map<int, Transform>& poses, std::vector<int>& appended, int& withoutGrid) const;
   GridUpdateSummary update(const std::map<int, Transform>& poses);
+  // Re-assembles the dirty tiles: each starts from its layer (or unknown), the evicted nodes not
+  // in it yet are applied and the result becomes its layer, then the other nodes. `replay`: the
+  // nodes (id order) with a dirty tile they write in; `retiled`: those whose tiles to record.
+  long reassembleDirtyTiles(const std::vector<int>& replay, const std::map<int, Transform>& target,
+                            const std::set<int>& retiled, uint32_t capture, GridUpdateSummary& s);
 
   // The cells of evicted nodes, read back through the loader (those it did not give back, or
   // gave back different, are left out and counted).
@@ -301,6 +344,7 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
   int withoutGrid = 0;
   if (appendOnly(poses, fresh, withoutGrid)) {
     // Incremental: new nodes come last in the update order.
+    restamp(fresh);
     CellBox need;
     for (int id : fresh) need.unite(nodeBox(id, poses.at(id)));
     storage.ensureCovers(need);
@@ -332,15 +376,18 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
   std::vector<int> appended, inserted;  // new nodes after / before the last assembled one
   for (int id : ch.added) (id > last ? appended : inserted).push_back(id);
   s.nodesAdded = static_cast<int>(appended.size());
+  // The layers this update captures hold the nodes evicted before it; the new ones come after.
+  const uint32_t capture = evictions + 1;
+  restamp(ch.added);
   long updates = 0;
   std::vector<int64_t> tiles;
-  auto applyFull = [&](int id, const NodeCells& n, const Transform& pose) {
-    updates += storage.apply(n, pose, false, &tiles);
-    tilesOf[id] = tiles;
-    storage.addFootprint(pose, o.footprintRadius, +1);
-  };
   auto applyFullAll = [&](const std::vector<int>& ids) {
-    withCells(ids, s, [&](int id, const NodeCells& n) { applyFull(id, n, ch.target.at(id)); });
+    withCells(ids, s, [&](int id, const NodeCells& n) {
+      const Transform& pose = ch.target.at(id);
+      updates += storage.apply(n, pose, false, &tiles);
+      tilesOf[id] = tiles;
+      storage.addFootprint(pose, o.footprintRadius, +1);
+    });
   };
   loadCpuNs = 0.0;
 
@@ -353,6 +400,9 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     s.path = appended.empty() ? Path::kNone : Path::kIncremental;
     s.why = appended.empty() ? "nothing changed" : std::to_string(appended.size()) + " new node(s) appended";
   } else {
+    for (const std::vector<int>* ids : std::array<const std::vector<int>*, 2>{&ch.moved, &ch.removed}) {
+      for (int id : *ids) leaveLayers(id);
+    }
     std::ostringstream why;
     why << ch.describe() << (inserted.empty() ? "" : " (" + std::to_string(inserted.size()) + " before the last)") << "; ";
     double allCells = 0.0, changedCells = 0.0;
@@ -365,18 +415,32 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
       for (int id : *ids) changedCells += double(cache.at(id).count());
     }
     for (int id : ch.removed) changedCells += cache.count(id) ? double(cache.at(id).count()) : 0.0;
-    const double fullUnits = allCells + (all.empty() ? 0.0 : double(all.c1 - all.c0 + 1 + 2 * maps_detail::kTile) *
+    const std::set<int> appendedSet(appended.begin(), appended.end());
+    std::set<int> retiled(ch.moved.begin(), ch.moved.end());
+    retiled.insert(inserted.begin(), inserted.end());
+    // The full path replays the nodes that write in some tile (all of them but those in the
+    // layers of every tile they are in; moved and new nodes are in none).
+    std::vector<int> fullReplay;
+    double fullCells = 0.0;
+    for (const auto& [id, pose] : ch.target) {
+      if (appendedSet.count(id)) continue;
+      const auto t = tilesOf.find(id);
+      if (retiled.count(id) || t == tilesOf.end() ||
+          std::any_of(t->second.begin(), t->second.end(), [&](int64_t k) { return writesIn(id, k); })) {
+        fullReplay.push_back(id);
+        fullCells += double(cache.at(id).count());
+      }
+    }
+    for (int id : appended) fullCells += double(cache.at(id).count());
+    const double fullUnits = fullCells + (all.empty() ? 0.0 : double(all.c1 - all.c0 + 1 + 2 * maps_detail::kTile) *
                                                                  double(all.r1 - all.r0 + 1 + 2 * maps_detail::kTile));
     s.estimatedFullUnits = fullUnits;
 
     Path path = Path::kFull;
     std::vector<int> replay;
+    int regionInLayers = 0;
     std::map<int, std::vector<int64_t>> newTiles;
-    // Evicted nodes a path reads back: the full path all of them, the region the replayed ones.
-    std::vector<int> targetIds;
-    targetIds.reserve(ch.target.size());
-    for (const auto& [id, pose] : ch.target) targetIds.push_back(id);
-    const double fullLoadCells = evictedCells(targetIds);
+    const double fullLoadCells = evictedCells(fullReplay) + evictedCells(appended);
     double regionLoadCells = 0.0;
     const bool forcedPath = forced == Path::kFull || forced == Path::kRegion;
     if (forcedPath && forced == Path::kFull) {
@@ -395,25 +459,25 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
         for (int id : *ids) for (int64_t t : tilesOf.at(id)) storage.markDirty(t);
       }
       double regionUnits = 0.0;
-      std::vector<int> retiled = ch.moved;
-      retiled.insert(retiled.end(), inserted.begin(), inserted.end());
-      regionLoadCells += evictedCells(retiled);
-      withCells(retiled, s, [&](int id, const NodeCells& n) {
+      const std::vector<int> retiledIds(retiled.begin(), retiled.end());
+      regionLoadCells += evictedCells(retiledIds);
+      withCells(retiledIds, s, [&](int id, const NodeCells& n) {
         newTiles[id] = storage.tilesAt(n, ch.target.at(id));
         for (int64_t t : newTiles[id]) storage.markDirty(t);
         regionUnits += double(n.count());  // the tile pass
       });
-      const std::set<int> appendedSet(appended.begin(), appended.end());
       for (const auto& [id, pose] : ch.target) {
         if (appendedSet.count(id)) continue;
         const std::vector<int64_t>& t = newTiles.count(id) ? newTiles.at(id) : tilesOf.at(id);
-        if (std::any_of(t.begin(), t.end(), [&](int64_t k) { return storage.isDirty(k); })) {
+        if (std::any_of(t.begin(), t.end(), [&](int64_t k) { return storage.isDirty(k) && writesIn(id, k); })) {
           replay.push_back(id);
           regionUnits += double(cache.at(id).count());
+        } else if (std::any_of(t.begin(), t.end(), [&](int64_t k) { return storage.isDirty(k); })) {
+          ++regionInLayers;  // in the region, but in the layers of all its tiles there
         }
       }
       for (int id : appended) regionUnits += double(cache.at(id).count());
-      regionUnits += double(storage.dirtyTiles()) * maps_detail::kTile * maps_detail::kTile;
+      regionUnits += double(storage.dirtyTiles()) * maps_detail::kTileCells;
       regionLoadCells += evictedCells(replay) + evictedCells(appended);
       s.estimatedRegionUnits = regionUnits;
       if (forcedPath) {
@@ -433,9 +497,8 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     const double cpu0 = threadCpuNs();
     loadCpuNs = 0.0;  // the cost model learns the paths' own work, the reading back apart
     if (path == Path::kRegion) {
-      storage.clearDirtyCells();
-      withCells(replay, s, [&](int id, const NodeCells& n) { updates += storage.apply(n, ch.target.at(id), true, nullptr); });
       for (const auto& [id, t] : newTiles) tilesOf[id] = t;
+      updates += reassembleDirtyTiles(replay, ch.target, {}, capture, s);
       for (int id : ch.removed) storage.addFootprint(assembled.at(id), o.footprintRadius, -1);
       for (int id : ch.moved) {
         storage.addFootprint(assembled.at(id), o.footprintRadius, -1);
@@ -444,15 +507,24 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
       for (int id : inserted) storage.addFootprint(ch.target.at(id), o.footprintRadius, +1);
       applyFullAll(appended);
       s.nodesReplayed = static_cast<int>(replay.size() + appended.size());
+      s.nodesInLayers = regionInLayers;
       learn(nsRegion, regionRuns, threadCpuNs() - cpu0 - loadCpuNs, s.estimatedRegionUnits);
     } else {
       if (all.empty()) storage.release();
       else storage.reset(all);
-      applyFullAll(targetIds);
-      s.nodesReplayed = static_cast<int>(ch.target.size());
+      storage.markAllDirty();
+      std::vector<int> replayAll = fullReplay;
+      replayAll.insert(replayAll.end(), appended.begin(), appended.end());
+      std::set<int> newlyTiled = retiled;
+      newlyTiled.insert(appended.begin(), appended.end());
+      updates += reassembleDirtyTiles(replayAll, ch.target, newlyTiled, capture, s);
+      for (const auto& [id, pose] : ch.target) storage.addFootprint(pose, o.footprintRadius, +1);
+      s.nodesReplayed = static_cast<int>(replayAll.size());
+      s.nodesInLayers = static_cast<int>(ch.target.size()) - s.nodesReplayed;
       learn(nsFull, fullRuns, threadCpuNs() - cpu0 - loadCpuNs, fullUnits);
     }
     if (s.nodesLoaded > 0) why << "; " << s.nodesLoaded << " evicted node(s) read back in " << s.loadMs << " ms";
+    if (s.nodesInLayers > 0) why << "; " << s.nodesInLayers << " node(s) in the tiles' Long-Term Memory layers";
     for (int id : ch.removed) tilesOf.erase(id);
     s.path = path;
     s.why = why.str();
@@ -462,6 +534,47 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
   s.cellUpdates = updates;
   s.timeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return s;
+}
+
+long OccupancyGrid::Impl::reassembleDirtyTiles(const std::vector<int>& replay, const std::map<int, Transform>& target,
+                                               const std::set<int>& retiled, uint32_t capture,
+                                               GridUpdateSummary& s) {
+  // Nodes evicted before this update (key below `capture`) and not yet in the layer of a tile
+  // they write in go into it; the nodes after them (Working Memory, moved, new) stay out of it.
+  std::vector<int> intoLayers, onTop;
+  for (int id : replay) (cache.at(id).layerKey < capture ? intoLayers : onTop).push_back(id);
+  storage.clearDirtyCells();
+  std::set<int64_t> layered;
+  for (int64_t t : storage.dirtyTileKeys()) {
+    auto l = layers.find(t);
+    if (l == layers.end()) continue;
+    storage.restoreTile(t, l->second.cells);
+    storage.setGate(t, l->second.capture);
+    layered.insert(t);
+  }
+  long updates = 0;
+  std::vector<int64_t> tiles;
+  auto applyMasked = [&](int id, const NodeCells& n) {
+    updates += storage.apply(n, target.at(id), true, &tiles, cache.at(id).layerKey);
+    if (retiled.count(id)) tilesOf[id] = tiles;  // every dirty tile is open to it: all of its tiles
+  };
+  const int notLoaded = s.nodesNotLoaded;
+  withCells(intoLayers, s, [&](int id, const NodeCells& n) {
+    applyMasked(id, n);
+    layered.insert(tiles.begin(), tiles.end());
+  });
+  // A node the loader did not give back would be missing from the layer for good: the layers are
+  // left as they were (this update's map misses it, the next re-assembly tries again).
+  if (s.nodesNotLoaded == notLoaded) {
+    for (int64_t t : layered) {
+      Layer& l = layers[t];
+      storage.captureTile(t, l.cells);
+      l.capture = capture;
+      storage.setGate(t, capture);
+    }
+  }
+  withCells(onTop, s, applyMasked);
+  return updates;
 }
 
 // -------------------------------------------------------------------- public API
@@ -482,6 +595,7 @@ bool OccupancyGrid::addLocalGrid(int nodeId, const LocalGrid& grid, std::string*
   std::optional<NodeCells> n = nodeCellsOf(grid, impl_->o.cellSize, problem);
   if (!n) return fail(problem);
   if (impl_->assembled.count(nodeId)) impl_->replaced.insert(nodeId);
+  impl_->leaveLayers(nodeId);
   auto [it, inserted] = impl_->cache.try_emplace(nodeId);
   if (inserted || it->second.evicted) ++impl_->resident;
   it->second = std::move(*n);
@@ -493,6 +607,7 @@ bool OccupancyGrid::hasLocalGrid(int nodeId) const { return impl_->cache.count(n
 void OccupancyGrid::removeLocalGrid(int nodeId) {
   auto it = impl_->cache.find(nodeId);
   if (it == impl_->cache.end()) return;
+  impl_->leaveLayers(nodeId);
   if (!it->second.evicted) --impl_->resident;
   impl_->cache.erase(it);
   impl_->forgetRecent(nodeId);
@@ -515,6 +630,9 @@ bool OccupancyGrid::evictLocalGrid(int nodeId) {
     --impl_->resident;
     impl_->remember(nodeId, std::move(cells));
   }
+  // Into the layers of its tiles at their next re-assembly (again, for a retrieved node that
+  // moved, see leaveLayers).
+  if (n.layerKey == maps_detail::kInWorkingMemory) n.layerKey = ++impl_->evictions;
   return true;
 }
 GridUpdateSummary OccupancyGrid::update(const std::map<int, Transform>& poses) { return impl_->update(poses); }
@@ -533,7 +651,8 @@ float OccupancyGrid::probability(double x, double y) const {
 const std::map<int, Transform>& OccupancyGrid::assembledPoses() const { return impl_->assembled; }
 
 size_t OccupancyGrid::memoryUsed() const {
-  size_t bytes = impl_->storage.bytes() + impl_->recentBytes + impl_->recent.size() * 48;
+  size_t bytes = impl_->storage.bytes() + impl_->recentBytes + impl_->recent.size() * 48 +
+                 impl_->layers.size() * (maps_detail::kTileCells * sizeof(int16_t) + 64);
   for (const auto& [id, n] : impl_->cache) bytes += n.bytes();
   for (const auto& [id, t] : impl_->tilesOf) bytes += t.size() * sizeof(int64_t) + sizeof(Transform) + 64;
   return bytes;

@@ -223,6 +223,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
       const GridUpdateSummary g = grid->update(graph.posesOfGroup(mapId));
       // Cells of nodes out of the Working Memory read back for this re-assembly (issue 10).
       stats.addStatistic("Memory/Grid_nodes_read_back/", static_cast<float>(g.nodesLoaded));
+      stats.addStatistic("Memory/Grid_nodes_in_layers/", static_cast<float>(g.nodesInLayers));
       stats.addStatistic("Memory/Grid_nodes_not_read_back/", static_cast<float>(g.nodesNotLoaded));
       stats.addStatistic("Timing/Grid_read_back/ms", static_cast<float>(g.loadMs));
     }

@@ -593,3 +593,122 @@ TEST(OccupancyGrid, RecentlyUsedEvictedCellsAreKeptWithinTheBudget) {
   }
   EXPECT_LE(small.memoryUsed(), smallBytes + 4096) << "the budget holds";
 }
+
+namespace {
+
+// Every cell's probability, compared to the bit over the first map's extent.
+void expectSameCells(const OccupancyGrid& a, const OccupancyGrid& b) {
+  const GridMap m = a.map();
+  ASSERT_FALSE(m.empty());
+  int differing = 0;
+  for (int r = 0; r < m.height(); ++r) {
+    for (int c = 0; c < m.width(); ++c) {
+      const double x = m.originX + (c + 0.5) * m.resolution, y = m.originY + (r + 0.5) * m.resolution;
+      differing += a.probability(x, y) != b.probability(x, y);
+    }
+  }
+  EXPECT_EQ(differing, 0);
+}
+
+// Fraction of the cells of `a` with the same class (-1 / 0 / 100) in `b`.
+double sameClassShare(const GridMap& a, const GridMap& b) {
+  if (a.empty() || a.data.size() != b.data.size()) return 0.0;
+  return 1.0 - double(cv::countNonZero(a.data != b.data)) / double(a.data.total());
+}
+
+}  // namespace
+
+// Issue 10: a tile's Long-Term Memory layer holds the cells of its evicted nodes, so that a
+// re-assembly replays (and reads back) only the nodes not in it. Below the clamping bounds cell
+// updates commute, so the map is then the one built with every node in RAM to the bit: the
+// bookkeeping (which node is in which layer, which tiles start from their layer) is checked
+// exactly. The robot's Working Memory is its last 10 nodes; the loop closure moves them again and
+// again; a retrieved node (25) moves with them once, then leaves for the LTM again.
+TEST(OccupancyGrid, LongTermMemoryLayersSpareReadingOldNodesBackAndKeepTheMap) {
+  const ScanRun run = corridorRun(40);
+  for (const bool clamped : {false, true}) {
+    for (Path path : {Path::kRegion, Path::kFull}) {
+      SCOPED_TRACE(std::string(pathName(path)) + (clamped ? ", clamped" : ", below the clamping bounds"));
+      GlobalGridOptions o = options();
+      if (!clamped) {
+        o.probHit = 0.52f;  // 0.08 a hit: a cell seen by all 40 nodes stays far from +-6.9
+        o.probMiss = 0.48f;
+        o.probClampingMin = 0.001f;
+        o.probClampingMax = 0.999f;
+      }
+      GlobalGridOptions noCache = o;
+      noCache.ltmCacheSize = 0.0f;
+      OccupancyGrid inRam(o), layered(noCache);
+      int reads = 0;
+      layered.setGridLoader([&](const std::vector<int>& ids) {
+        reads += static_cast<int>(ids.size());
+        std::map<int, LocalGrid> out;
+        for (int id : ids) out[id] = run.grids.at(id == 41 ? 20 : id);
+        return out;
+      });
+      std::map<int, Transform> graph;
+      for (const auto& [id, pose] : run.poses) {
+        ASSERT_TRUE(inRam.addLocalGrid(id, run.grids.at(id)));
+        ASSERT_TRUE(layered.addLocalGrid(id, run.grids.at(id)));
+        graph[id] = pose;
+        inRam.update(graph);
+        layered.update(graph);
+        if (id > 10) {
+          ASSERT_TRUE(layered.evictLocalGrid(id - 10));  // a Working Memory of 10 nodes
+        }
+      }
+      auto closeLoop = [&](double dx, std::initializer_list<int> alsoMoved) {
+        for (int id = 31; id <= 40; ++id) graph[id] = Transform(dx, 0.1, 0.03) * run.poses.at(id);
+        for (int id : alsoMoved) graph[id] = Transform(0.0, dx, 0.0) * run.poses.at(id);
+        inRam.forceNextPath(path);
+        layered.forceNextPath(path);
+        inRam.update(graph);
+        const GridUpdateSummary s = layered.update(graph);
+        EXPECT_EQ(s.path, path);
+        EXPECT_EQ(s.nodesNotLoaded, 0);
+        if (clamped) {
+          // Above the bounds the order of updates matters: a layer's nodes come before the others.
+          EXPECT_GT(sameClassShare(inRam.map(), layered.map()), 0.99);
+        } else {
+          expectSameCells(inRam, layered);
+        }
+        return s;
+      };
+      // The first re-assembly reads the old nodes in its tiles back and keeps them in layers.
+      const GridUpdateSummary first = closeLoop(-0.3, {});
+      EXPECT_GT(first.nodesLoaded, 5);
+      // The next ones over the same area read nothing back but a node new to the map that was
+      // evicted before it was assembled (a map loaded from its database): it is in no layer yet.
+      ASSERT_TRUE(inRam.addLocalGrid(41, run.grids.at(20)));
+      ASSERT_TRUE(layered.addLocalGrid(41, run.grids.at(20)));
+      ASSERT_TRUE(layered.evictLocalGrid(41));
+      graph[41] = Transform(0.05, 0.05, 0.02) * run.poses.at(20);
+      const GridUpdateSummary second = closeLoop(-0.2, {});
+      EXPECT_EQ(second.nodesLoaded, 1);
+      EXPECT_GE(second.nodesInLayers, 15);  // the old nodes the first one read back (18 / 30)
+      if (path == Path::kFull) {
+        EXPECT_EQ(second.nodesReplayed + second.nodesInLayers, 41);
+      }
+      EXPECT_EQ(closeLoop(-0.23, {}).nodesLoaded, 1) << "41 joins the layers of its tiles";
+      EXPECT_EQ(closeLoop(-0.2, {}).nodesLoaded, 0);
+      // A retrieved node optimised with the Working Memory leaves its layers: their old nodes are
+      // read back once ...
+      const GridUpdateSummary retrieved = closeLoop(-0.25, {25});
+      EXPECT_GT(retrieved.nodesLoaded, 1);
+      // Then only 25 itself, replayed while it moves (the region path reads it for its tiles and
+      // for its cells: no cache here).
+      EXPECT_LE(closeLoop(-0.22, {25}).nodesLoaded, 2);
+      // ... and when it is back in the LTM it joins them at the next re-assembly.
+      EXPECT_TRUE(layered.evictLocalGrid(25));
+      closeLoop(-0.21, {});
+      EXPECT_EQ(closeLoop(-0.2, {}).nodesLoaded, 0);
+      // Replaced and removed nodes leave their layers too.
+      ASSERT_TRUE(inRam.addLocalGrid(12, run.grids.at(13)));
+      ASSERT_TRUE(layered.addLocalGrid(12, run.grids.at(13)));
+      graph.erase(3);
+      EXPECT_GT(closeLoop(-0.3, {}).nodesLoaded, 0);
+      EXPECT_GT(reads, 0);
+      EXPECT_LT(layered.memoryUsed(), inRam.memoryUsed());
+    }
+  }
+}

@@ -12,14 +12,14 @@
 // falls in it, else free if one of its ground cells (or 2D empty cells) does. A cell's log-odds L
 // starts unknown; an update adds logit(ProbHit) or logit(ProbMiss) to L (0 for the first one)
 // and clamps it to [logit(ProbClampingMin), logit(ProbClampingMax)], so a cell can change its
-// mind after a bounded number of contrary observations. Nodes update in increasing id order.
-// A cell is occupied when L > logit(OccupancyThr). 3D local grids are projected: obstacles and
-// ground by their x y; their empty voxels are not used (free space at some height says nothing
-// about the floor under it).
+// mind after a bounded number of contrary observations. Nodes update in increasing id order,
+// except for the Long-Term Memory layers below. A cell is occupied when L > logit(OccupancyThr).
+// 3D local grids are projected: obstacles and ground by their x y; their empty voxels are not
+// used (free space at some height says nothing about the floor under it).
 //
 // Re-assembly after optimisation. Clamping makes a cell depend on the order of its updates, so
-// a moved node's old contribution cannot be subtracted. Both paths below give exactly the map a
-// full rebuild in id order would give:
+// a moved node's old contribution cannot be subtracted. Both paths below give exactly the same
+// map:
 //  - full: clear the map, replay every node;
 //  - region: mark the tiles (32 x 32 cells) touched by the moved / removed / out-of-order nodes
 //    at their old and new poses, clear only those tiles, replay (in id order) the nodes whose
@@ -35,10 +35,22 @@
 // database), evictLocalGrid() drops a node's cells from RAM when it leaves the Working Memory;
 // what deciding a re-assembly needs (bounds, cell count, the tiles it was applied to) stays,
 // a few hundred bytes a node. A re-assembly reads the cells of the evicted nodes it replays back in
-// batches: the map is the same bit for bit. The cells of the evicted nodes used last (just
-// evicted, or read back) stay in RAM up to a fixed budget (GridGlobal/LtmCacheSize, 4 MB: ~1,200
-// nodes of a 30 m laser): the re-assemblies of a revisited area replay the same old nodes update
-// after update, and reading them back each time would cost more than the assembly itself.
+// batches. The cells of the evicted nodes used last (just evicted, or read back) stay in RAM up
+// to a fixed budget (GridGlobal/LtmCacheSize, 4 MB: ~1,200 nodes of a 30 m laser).
+//
+// Long-Term Memory layers. After hours in the same building a tile is covered by hundreds of
+// old nodes, all in the LTM, and every re-assembly of it (a loop closure moving the few Working
+// Memory nodes there) would read them all back. So when a tile is re-assembled, the evicted
+// nodes in it are composed first, in id order, onto the tile's layer (2 bytes a cell), and the
+// other nodes on top of it, in id order; the next re-assembly of the tile starts from its layer
+// and replays (and reads back) only the nodes evicted since and those still in the Working
+// Memory. A node leaves the layers it is in when its cells change (moved beyond UpdateError,
+// replaced, removed: a retrieved node optimised with the Working Memory, typically); those
+// layers are dropped and rebuilt at their tile's next re-assembly, and the node is replayed
+// until it is evicted again. Below the clamping bounds updates commute and the map is the one
+// of the id order to the bit; a cell that reaches a bound may differ from it by the order of the
+// last few updates (the LTM nodes' before the Working Memory's).
+
 #include <functional>
 #include <map>
 #include <memory>
@@ -93,6 +105,8 @@ struct GridUpdateSummary {
   double estimatedFullUnits = 0.0;
   int nodesLoaded = 0;        // evicted nodes whose cells were read back through the loader
   int nodesNotLoaded = 0;     // evicted nodes the loader did not give back (left out of the map)
+  int nodesInLayers = 0;      // region / full: nodes re-assembled from the layers of all their tiles
+                              // there, not replayed (see Long-Term Memory layers)
   double loadMs = 0.0;        // time reading them back (part of timeMs)
   double timeMs = 0.0;
 };
@@ -126,8 +140,9 @@ class OccupancyGrid {
   // The RAM for the cells of evicted nodes used last is options().ltmCacheSize (0: every replay
   // reads back).
   void setGridLoader(GridLoader loader);
-  // Drops a node's cells from RAM (see Memory above). False, and nothing done, for a node not
-  // cached or without a loader set.
+  // Drops a node's cells from RAM (see Memory above); it joins the layers of its tiles at their
+  // next re-assembly (see Long-Term Memory layers). Call it again when a node retrieved from the
+  // LTM goes back there. False, and nothing done, for a node not cached or without a loader set.
   bool evictLocalGrid(int nodeId);
 
   // Brings the map to the given graph (node id -> pose, e.g. the optimised poses): appends new
