@@ -112,6 +112,7 @@ class GridStorage {
   uint32_t gate(int64_t worldTile) const { return tileInside(worldTile) ? gate_[tileIndex(worldTile)] : kGateClosed; }
   void setGate(int64_t worldTile, uint32_t gate);  // of a dirty tile
   long dirtyTiles() const;
+  long tiles() const { return static_cast<long>(gate_.size()); }
   std::vector<int64_t> dirtyTileKeys() const;
   void clearDirtyCells();  // sets the cells of dirty tiles unknown
   // A tile's log-odds (kTileCells, row-major; kUnknownFixed unknown) out of and into storage.

@@ -554,8 +554,15 @@ long OccupancyGrid::Impl::reassembleDirtyTiles(const std::vector<int>& replay, c
   }
   long updates = 0;
   std::vector<int64_t> tiles;
+  // On the full path every tile is dirty: a node that every gate lets through (no tile started
+  // from a layer, so every gate is open; or a key from the capture on) writes all its cells, and
+  // the unmasked apply does that without a gate test per cell (Intel, 1,000 nodes: 70 -> 52 ms).
+  const bool everyTileDirty = storage.dirtyTiles() == storage.tiles();
+  const bool noLayerRestored = layered.empty();
   auto applyMasked = [&](int id, const NodeCells& n) {
-    updates += storage.apply(n, target.at(id), true, &tiles, cache.at(id).layerKey);
+    const uint32_t key = cache.at(id).layerKey;
+    const bool open = everyTileDirty && (noLayerRestored || key >= capture);
+    updates += storage.apply(n, target.at(id), !open, &tiles, key);
     if (retiled.count(id)) tilesOf[id] = tiles;  // every dirty tile is open to it: all of its tiles
   };
   const int notLoaded = s.nodesNotLoaded;

@@ -66,6 +66,24 @@ std::map<int, Transform> shifted(const std::map<int, Transform>& poses, const Tr
   return out;
 }
 
+// Drives the run into both grids node by node, `evicting` keeping a Working Memory of its last
+// `wm` nodes (the older ones are evicted); returns the graph of every node.
+std::map<int, Transform> appendEvictingOld(const ScanRun& run, OccupancyGrid& inRam, OccupancyGrid& evicting,
+                                           int wm = 10) {
+  std::map<int, Transform> graph;
+  for (const auto& [id, pose] : run.poses) {
+    EXPECT_TRUE(inRam.addLocalGrid(id, run.grids.at(id)));
+    EXPECT_TRUE(evicting.addLocalGrid(id, run.grids.at(id)));
+    graph[id] = pose;
+    inRam.update(graph);
+    evicting.update(graph);
+    if (id > wm) {
+      EXPECT_TRUE(evicting.evictLocalGrid(id - wm));
+    }
+  }
+  return graph;
+}
+
 }  // namespace
 
 TEST(OccupancyGrid, IncrementalAssemblyEqualsFullAndRegionReassembly) {
@@ -473,17 +491,8 @@ TEST(OccupancyGrid, EvictedNodesAreReadBackByReassembliesAndTheMapIsUnchanged) {
       for (int id : ids) out[id] = run.grids.at(id);
       return out;
     });
-    std::map<int, Transform> graph;
-    for (const auto& [id, pose] : run.poses) {
-      ASSERT_TRUE(inRam.addLocalGrid(id, run.grids.at(id)));
-      ASSERT_TRUE(evicting.addLocalGrid(id, run.grids.at(id)));
-      graph[id] = pose;
-      inRam.update(graph);
-      evicting.update(graph);
-      if (id > 10) {
-        ASSERT_TRUE(evicting.evictLocalGrid(id - 10));  // a Working Memory of 10 nodes
-      }
-    }
+    appendEvictingOld(run, inRam, evicting);  // a Working Memory of 10 nodes
+    ASSERT_FALSE(::testing::Test::HasFailure());
     EXPECT_TRUE(asked.empty()) << "appending needs no evicted cells";
     EXPECT_EQ(evicting.cachedNodes(), 40u);
     EXPECT_EQ(evicting.residentNodes(), 10u);
@@ -646,17 +655,8 @@ TEST(OccupancyGrid, LongTermMemoryLayersSpareReadingOldNodesBackAndKeepTheMap) {
         for (int id : ids) out[id] = run.grids.at(id == 41 ? 20 : id);
         return out;
       });
-      std::map<int, Transform> graph;
-      for (const auto& [id, pose] : run.poses) {
-        ASSERT_TRUE(inRam.addLocalGrid(id, run.grids.at(id)));
-        ASSERT_TRUE(layered.addLocalGrid(id, run.grids.at(id)));
-        graph[id] = pose;
-        inRam.update(graph);
-        layered.update(graph);
-        if (id > 10) {
-          ASSERT_TRUE(layered.evictLocalGrid(id - 10));  // a Working Memory of 10 nodes
-        }
-      }
+      std::map<int, Transform> graph = appendEvictingOld(run, inRam, layered);  // a WM of 10 nodes
+      ASSERT_FALSE(::testing::Test::HasFailure());
       auto closeLoop = [&](double dx, std::initializer_list<int> alsoMoved) {
         for (int id = 31; id <= 40; ++id) graph[id] = Transform(dx, 0.1, 0.03) * run.poses.at(id);
         for (int id : alsoMoved) graph[id] = Transform(0.0, dx, 0.0) * run.poses.at(id);
