@@ -15,7 +15,10 @@
 // run: reading and decoding images is not odometry time.
 //
 // Usage: bench-visual_odometry_bench [--data DIR] [--frames N] [--only-f2m] [--set Name Value]...
-//                                     [--errors PATH]
+//                                     [--errors PATH] [--draws K]
+//   --draws     the default RGB-D F2M run again with Vis/PnPShuffleSeed 1..K-1 (default K = 5): its ATE
+//               moves by +-0.3 cm from one RANSAC draw to the next, so its goals are judged on the
+//               medians over the K draws (1 = the single run);
 //   --only-f2m  only the default RGB-D and stereo F2M runs (profiling, parameter studies);
 //   --set       a parameter for every run (repeatable);
 //   --errors    writes `stamp error_m` per frame of the RGB-D F2M run (after ATE alignment).
@@ -55,6 +58,7 @@ struct Settings {
   bool onlyF2M = false;         // --only-f2m: the default F2M runs alone (profiling, parameter studies)
   ParametersMap overrides;      // --set Name Value: applied to every run
   std::string errorsPath;       // --errors PATH: per-frame ATE errors of the RGB-D F2M run
+  int draws = 5;                // --draws K: RGB-D F2M runs with Vis/PnPShuffleSeed 0..K-1
 };
 
 ParametersMap withOverrides(ParametersMap p, const Settings& s) {
@@ -238,6 +242,35 @@ Json binaryMatchingFigures(const std::vector<SensorData>& frames) {
   return j;
 }
 
+std::string goalVerdict(double ate, double cpuMs) {
+  return std::string("  goals ") + (ate >= 0.0 && ate <= 0.03 ? "ATE ok" : "ATE MISSED") +
+         (cpuMs <= 25.0 ? ", time ok (CPU)" : ", time MISSED (CPU)");
+}
+
+// The default RGB-D F2M again with other RANSAC draws (Vis/PnPShuffleSeed 1..K-1; `first` is
+// seed 0), and the medians over all K: the figures the goals are judged on.
+Json drawFigures(const RunFigures& first, const Settings& s, const std::vector<SensorData>& frames) {
+  std::vector<double> ate{first.ateRmse}, cpu{first.cpuMedian}, wall{first.wallMedian};
+  int lost = first.lost;
+  for (int seed = 1; seed < s.draws; ++seed) {
+    ParametersMap p = withOverrides({}, s);
+    p["Vis/PnPShuffleSeed"] = std::to_string(seed);
+    const RunFigures r = runOdometry("F2M (defaults)", Odometry::Type::kF2M, p, frames, false);
+    ate.push_back(r.ateRmse);
+    cpu.push_back(r.cpuMedian);
+    wall.push_back(r.wallMedian);
+    lost = std::max(lost, r.lost);
+  }
+  const double ateMedian = median(ate), cpuMedian = median(cpu);
+  std::cout << std::fixed << std::setprecision(1) << "  F2M over " << s.draws
+            << " RANSAC draws (Vis/PnPShuffleSeed 0.." << s.draws - 1 << "): ATE RMSE median " << ateMedian * 100.0
+            << " cm (min " << *std::min_element(ate.begin(), ate.end()) * 100.0 << ", max " << maxOf(ate) * 100.0
+            << ")  time median " << median(wall) << " ms wall / " << cpuMedian << " ms CPU  lost at most " << lost
+            << goalVerdict(ateMedian, cpuMedian) << "\n";
+  return {{"draws", s.draws}, {"ate_rmse", ate}, {"ate_rmse_median", ateMedian}, {"cpu_ms_median", cpuMedian},
+          {"ms_median", median(wall)}, {"lost_max", lost}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -255,9 +288,11 @@ int main(int argc, char** argv) {
       i += 2;
     } else if (a == "--errors" && i + 1 < argc) {
       s.errorsPath = argv[++i];
+    } else if (a == "--draws" && i + 1 < argc && std::atoi(argv[i + 1]) >= 1) {
+      s.draws = std::atoi(argv[++i]);
     } else {
       std::cerr << "usage: bench-visual_odometry_bench [--data DIR] [--frames N] [--only-f2m] [--set Name Value]... "
-                   "[--errors PATH]\n";
+                   "[--errors PATH] [--draws K]\n";
       return a == "--help" ? 0 : 2;
     }
   }
@@ -280,9 +315,9 @@ int main(int argc, char** argv) {
       std::ofstream file(s.errorsPath);
       for (const auto& [stamp, error] : f2m.errors) file << std::setprecision(17) << stamp << " " << error << "\n";
     }
-    printRun(f2m, std::string("  goals ") + (f2m.ateRmse <= 0.03 ? "ATE ok" : "ATE MISSED") +
-                      (f2m.cpuMedian <= 25.0 ? ", time ok (CPU)" : ", time MISSED (CPU)"));
+    printRun(f2m, s.draws > 1 ? "" : goalVerdict(f2m.ateRmse, f2m.cpuMedian));
     out["rgbd_7scenes"] = {{"f2m", f2m.json()}};
+    if (s.draws > 1) out["rgbd_7scenes"]["f2m_draws"] = drawFigures(f2m, s, frames);
   }
   if (haveSevenScenes && !s.onlyF2M) {
     std::cout << "features (100 frames):\n";

@@ -163,7 +163,7 @@ Transform averageWithBackward(const Transform& forward, const VisualFrame& from,
                               const PnPOptions& pnp) {
   std::vector<cv::Point2f> fromPoints2D;
   for (const cv::DMatch& m : c.matches) fromPoints2D.push_back(from.keypoints[static_cast<size_t>(m.queryIdx)].pt);
-  const MotionEstimate backward = estimateMotion3DTo2D(c.toPoints3D, fromPoints2D, from.model, forward.inverse(), pnp);
+  const MotionEstimate backward = estimateMotion3DTo2D(c.toPoints3D, fromPoints2D, from.model, pnp);
   return backward.transform.isNull() ? forward : forward.interpolate(0.5, backward.transform.inverse());
 }
 
@@ -289,7 +289,7 @@ Transform RegistrationVis::computeTransform(const VisualFrame& from, const Visua
   } else if (to.severalCameras()) {
     estimate = estimateMotionMultiCameraPnP(fromPoints3D, c.toPoints, c.toPoints3D, to, options_.pnp, options_.rigid);
   } else {
-    estimate = estimateMotion3DTo2D(fromPoints3D, c.toPoints, to.model, guess, options_.pnp);
+    estimate = estimateMotion3DTo2D(fromPoints3D, c.toPoints, to.model, options_.pnp);
   }
   if (estimate.transform.isNull()) return reject(estimate.rejectedMsg);
   Transform transform = estimate.transform;

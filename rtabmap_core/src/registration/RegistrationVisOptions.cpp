@@ -12,6 +12,7 @@ RegistrationVisOptions RegistrationVisOptions::fromParameters(const ParametersMa
   o.pnp.iterations = Parameters::getInt(p, Parameters::kVisIterations());
   o.pnp.flags = Parameters::getInt(p, Parameters::kVisPnPFlags());
   o.pnp.refineIterations = Parameters::getInt(p, Parameters::kVisPnPRefineIterations());
+  o.pnp.shuffleSeed = Parameters::getInt(p, Parameters::kVisPnPShuffleSeed());
   o.pnp.minInliers = o.minInliers;
   o.rigid.inlierDistance = Parameters::getFloat(p, Parameters::kVisInlierDistance());
   o.rigid.iterations = o.pnp.iterations;

@@ -30,6 +30,7 @@ struct PnPOptions {
   int flags = 0;             // Vis/PnPFlags: 0 iterative, 1 EPnP, 2 P3P
   int refineIterations = 1;  // Vis/PnPRefineIterations
   int minInliers = 20;       // Vis/MinInliers
+  int shuffleSeed = 0;       // Vis/PnPShuffleSeed: 0 = match order
   bool IsValid(std::string* why = nullptr) const;
 };
 
@@ -48,11 +49,12 @@ struct MotionEstimate {
   double inlierRmse = 0.0;   // pixels (PnP) or metres (3D-3D)
 };
 
-// objectPoints[i] (reference frame) seen at imagePoints[i] (new image). `guess`, if not null,
-// is the expected transform: it seeds the iterative solver. Non-finite points are skipped.
+// objectPoints[i] (reference frame) seen at imagePoints[i] (new image): PnP RANSAC, then
+// refinement on the inliers. Non-finite points are skipped. A motion guess has no place here:
+// RANSAC's minimal solvers start from nothing (the guess serves the matching, before).
 MotionEstimate estimateMotion3DTo2D(const std::vector<cv::Point3f>& objectPoints,
                                     const std::vector<cv::Point2f>& imagePoints, const CameraModel& model,
-                                    const Transform& guess, const PnPOptions& options);
+                                    const PnPOptions& options);
 
 // referencePoints[i] (reference frame) and newPoints[i] (new frame) are the same physical point.
 // Non-finite pairs are skipped. Deterministic (fixed random seed).
