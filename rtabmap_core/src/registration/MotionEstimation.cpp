@@ -155,9 +155,11 @@ MotionEstimate estimateMotion3DTo2D(const std::vector<cv::Point3f>& objectPoints
     result.rejectedMsg = "PnP RANSAC found no consistent pose among " + std::to_string(obj.size()) + " correspondences";
     return result;
   }
+  // The correspondences within the reprojection error under a pose; `projected` keeps the last
+  // call's projections (the inlier RMSE below reads them).
   const float thr2 = options.reprojError * options.reprojError;
+  std::vector<cv::Point2f> projected;
   auto inliersUnder = [&](const cv::Mat& r, const cv::Mat& t, std::vector<int>& out) {
-    std::vector<cv::Point2f> projected;
     cv::projectPoints(obj, r, t, K, cv::noArray(), projected);
     out.clear();
     for (size_t i = 0; i < obj.size(); ++i) {
@@ -179,33 +181,34 @@ MotionEstimate estimateMotion3DTo2D(const std::vector<cv::Point3f>& objectPoints
   auto diverged = [](size_t kept, size_t from) { return kept < from / 2; };
   std::vector<cv::Point3f> o;
   std::vector<cv::Point2f> p;
-  std::vector<int> kept;
-  inliersUnder(rvec, tvec, kept);
-  if (diverged(kept.size(), inliers.size()) && inliers.size() >= 4) {
+  std::vector<int> current, kept;  // current: the inliers under (rvec, tvec)
+  inliersUnder(rvec, tvec, current);
+  if (diverged(current.size(), inliers.size()) && inliers.size() >= 4) {
     subset(inliers, o, p);  // RANSAC's consensus set: EPnP on it, in closed form
     cv::Mat r, t;
     if (cv::solvePnP(o, p, K, cv::noArray(), r, t, false, cv::SOLVEPNP_EPNP) && finiteMat(r) && finiteMat(t)) {
       rvec = r;
       tvec = t;
+      inliersUnder(rvec, tvec, current);
     }
   }
   // Refinement: re-select the inliers of the whole set under the current pose and solve again
   // on them, so the final pose uses every correspondence consistent with it, not only those
   // of the best minimal sample.
-  for (int it = 0; it < options.refineIterations; ++it) {
-    inliersUnder(rvec, tvec, inliers);
-    if (inliers.size() < 4) break;
-    subset(inliers, o, p);
+  for (int it = 0; it < options.refineIterations && current.size() >= 4; ++it) {
+    subset(current, o, p);
     cv::Mat r = rvec.clone(), t = tvec.clone();
     if (!cv::solvePnP(o, p, K, cv::noArray(), r, t, true, cv::SOLVEPNP_ITERATIVE) || !finiteMat(r) || !finiteMat(t)) break;
     inliersUnder(r, t, kept);
-    if (diverged(kept.size(), inliers.size())) break;
+    if (diverged(kept.size(), current.size())) {
+      inliersUnder(rvec, tvec, current);  // back to the pose kept (and its projections)
+      break;
+    }
     rvec = r;
     tvec = t;
+    current.swap(kept);
   }
-  std::vector<cv::Point2f> projected;
-  cv::projectPoints(obj, rvec, tvec, K, cv::noArray(), projected);
-  inliersUnder(rvec, tvec, inliers);
+  inliers.swap(current);
   if (static_cast<int>(inliers.size()) < options.minInliers || inliers.size() < 4) {
     result.rejectedMsg = tooFew(static_cast<int>(inliers.size()), "inliers after PnP RANSAC", options.minInliers);
     return result;
