@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "VoxelBitset.h"
@@ -49,10 +50,12 @@ class OctreeBatch {
   void sortByVoxel(std::vector<VoxelUpdate>& updates);
   void mergeFree(std::vector<VoxelUpdate>& updates, const std::vector<octomap::OcTreeKey>& sortedFree);
   void descend(octomap::ColorOcTreeNode* node, unsigned depth, bool created, VoxelUpdate* begin, VoxelUpdate* end);
+  static VoxelUpdate* runEnd(VoxelUpdate* b, VoxelUpdate* end, unsigned shift, uint64_t prefix);
+  void updateFromChildren(const octomap::ColorOcTree& tree, octomap::ColorOcTreeNode* node) const;
 
   octomap::ColorOcTree* tree_ = nullptr;
   bool colors_ = false;
-  float hit_ = 0.0f, miss_ = 0.0f;
+  float hit_ = 0.0f, miss_ = 0.0f, clampMin_ = 0.0f, clampMax_ = 0.0f;
   std::vector<SortItem> items_, scratch_;
   std::vector<uint32_t> counts_;
   std::vector<VoxelUpdate> sorted_;
@@ -64,6 +67,8 @@ inline void OctreeBatch::apply(octomap::ColorOcTree& tree, std::vector<VoxelUpda
   tree_ = &tree;
   hit_ = hit;
   miss_ = miss;
+  clampMin_ = tree.getClampingThresMinLog();
+  clampMax_ = tree.getClampingThresMaxLog();
   if (!updates.empty()) sortByVoxel(updates);
   mergeFree(updates, sortedFree);
   colors_ = false;
@@ -134,12 +139,29 @@ inline void OctreeBatch::mergeFree(std::vector<VoxelUpdate>& updates, const std:
   updates.swap(sorted_);
 }
 
+// The end of the run of updates from b on whose code starts with `prefix` (the updates of one
+// child). Galloping, then a binary search: near the root one child holds all of a node's
+// voxels, and a scan there would visit every update at every level (16 times each).
+inline VoxelUpdate* OctreeBatch::runEnd(VoxelUpdate* b, VoxelUpdate* end, unsigned shift, uint64_t prefix) {
+  auto inRun = [&](const VoxelUpdate& u) { return (u.morton >> shift) == prefix; };
+  size_t step = 1;
+  VoxelUpdate* lo = b + 1;  // every update before lo is in the run
+  while (step <= size_t(end - lo) && inRun(lo[step - 1])) {
+    lo += step;
+    step *= 2;
+  }
+  VoxelUpdate* hi = lo + std::min(step, size_t(end - lo));  // the run ends in [lo, hi]
+  return std::partition_point(lo, hi, inRun);
+}
+
 inline void OctreeBatch::descend(octomap::ColorOcTreeNode* node, unsigned depth, bool created, VoxelUpdate* begin,
                                  VoxelUpdate* end) {
   octomap::ColorOcTree& tree = *tree_;
   const unsigned treeDepth = tree.getTreeDepth();
   if (depth == treeDepth) {  // one update per voxel (sortByVoxel)
-    tree.updateNodeLogOdds(node, begin->kind == VoxelUpdate::kFree ? miss_ : hit_);
+    // OccupancyOcTreeBase::updateNodeLogOdds, inline (its addValue is a library call).
+    const float l = node->getLogOdds() + (begin->kind == VoxelUpdate::kFree ? miss_ : hit_);
+    node->setLogOdds(l < clampMin_ ? clampMin_ : (l > clampMax_ ? clampMax_ : l));
     if (begin->hasColor) {
       if (node->isColorSet()) {  // white is "not set" in ColorOcTree
         const octomap::ColorOcTreeNode::Color c = node->getColor();
@@ -152,13 +174,19 @@ inline void OctreeBatch::descend(octomap::ColorOcTreeNode* node, unsigned depth,
   }
   // A leaf above the bottom that this descent did not create is a pruned block: split it.
   if (!created && !tree.nodeHasChildren(node)) tree.expandNode(node);
+  // The descent is bound by cache misses on nodes scattered over the heap: ask for all the
+  // children at once, so that their misses overlap instead of coming one after the other.
+  if (!created) {
+    for (unsigned i = 0; i < 8; ++i) {
+      if (tree.nodeChildExists(node, i)) __builtin_prefetch(tree.getNodeChild(node, i));
+    }
+  }
   // The Morton code holds the child index of every level: 3 bits per level, root first.
   const unsigned shift = 3 * (treeDepth - 1 - depth);
   for (VoxelUpdate* b = begin; b != end;) {
     const uint64_t prefix = b->morton >> shift;
     const unsigned child = static_cast<unsigned>(prefix) & 7u;
-    VoxelUpdate* e = b + 1;
-    while (e != end && (e->morton >> shift) == prefix) ++e;
+    VoxelUpdate* e = runEnd(b, end, shift, prefix);
     bool newChild = false;
     if (!tree.nodeChildExists(node, child)) {
       tree.createNodeChild(node, child);
@@ -167,8 +195,31 @@ inline void OctreeBatch::descend(octomap::ColorOcTreeNode* node, unsigned depth,
     descend(tree.getNodeChild(node, child), depth + 1, newChild, b, e);
     b = e;
   }
-  node->updateOccupancyChildren();
-  if (colors_) node->updateColorChildren();
+  updateFromChildren(tree, node);
+}
+
+// ColorOcTreeNode's updateOccupancyChildren (the children's maximum log-odds) and, for coloured
+// maps, updateColorChildren (the integer mean of the children's set colours, white when none
+// is set), in one pass over the children instead of two library calls.
+inline void OctreeBatch::updateFromChildren(const octomap::ColorOcTree& tree, octomap::ColorOcTreeNode* node) const {
+  float maxLogOdds = -std::numeric_limits<float>::max();
+  int r = 0, g = 0, b = 0, colored = 0;
+  for (unsigned i = 0; i < 8; ++i) {
+    if (!tree.nodeChildExists(node, i)) continue;
+    const octomap::ColorOcTreeNode* c = tree.getNodeChild(node, i);
+    maxLogOdds = std::max(maxLogOdds, c->getLogOdds());
+    if (colors_ && c->isColorSet()) {
+      const octomap::ColorOcTreeNode::Color col = c->getColor();
+      r += col.r;
+      g += col.g;
+      b += col.b;
+      ++colored;
+    }
+  }
+  node->setLogOdds(maxLogOdds);
+  if (!colors_) return;
+  if (colored > 0) node->setColor(uint8_t(r / colored), uint8_t(g / colored), uint8_t(b / colored));
+  else node->setColor(255, 255, 255);
 }
 
 }  // namespace rtabmap::maps_detail

@@ -56,6 +56,17 @@ class VoxelBitset {
     }
     if (n > kMaxSupers) return false;
     words_.assign(n * kWordsPerSuper, 0u);
+    buildAxisTables();
+    return true;
+  }
+  // set(k) when k is in the box, else false. For walks that mark one voxel per step: the word
+  // and bit come from three small per-axis tables (a few hundred entries each, in L1) instead of
+  // being computed from the key's bits every step.
+  bool trySet(unsigned k0, unsigned k1, unsigned k2) {
+    const unsigned i0 = k0 - base_[0], i1 = k1 - base_[1], i2 = k2 - base_[2];
+    if (i0 >= extent_[0] || i1 >= extent_[1] || i2 >= extent_[2]) return false;
+    words_[wordPart_[0][i0] + wordPart_[1][i1] + wordPart_[2][i2]] |=
+        uint64_t(1) << (bitPart_[0][i0] | bitPart_[1][i1] | bitPart_[2][i2]);
     return true;
   }
   bool contains(const octomap::OcTreeKey& k) const {
@@ -86,9 +97,28 @@ class VoxelBitset {
     return uint64_t(1) << (spread2(k[0] & 3u) | (spread2(k[1] & 3u) << 1) | (spread2(k[2] & 3u) << 2));
   }
 
+  // Each axis's share of word() and of bit()'s shift, by key offset from the box's first key.
+  void buildAxisTables() {
+    const size_t stride[3] = {size_t(size_[1]) * size_[2], size_[2], 1};
+    for (int a = 0; a < 3; ++a) {
+      base_[a] = lo_[a] << kSuperShift;
+      extent_[a] = size_[a] << kSuperShift;
+      wordPart_[a].resize(extent_[a]);
+      bitPart_[a].resize(extent_[a]);
+      for (unsigned i = 0; i < extent_[a]; ++i) {
+        wordPart_[a][i] = (i >> kSuperShift) * stride[a] * kWordsPerSuper + (spread2((i >> 2) & 3u) << a);
+        bitPart_[a][i] = static_cast<uint8_t>(spread2(i & 3u) << a);
+      }
+    }
+  }
+
   std::vector<uint64_t> words_;
   unsigned lo_[3] = {0, 0, 0};
   unsigned size_[3] = {0, 0, 0};
+  unsigned base_[3] = {0, 0, 0};
+  unsigned extent_[3] = {0, 0, 0};
+  std::vector<size_t> wordPart_[3];
+  std::vector<uint8_t> bitPart_[3];
 };
 
 // The 6-bit Morton code m split back into its 2-bit x, y, z parts.

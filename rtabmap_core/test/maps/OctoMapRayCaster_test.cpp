@@ -1,5 +1,5 @@
 // The OctoMap's fast free-space path: VoxelBitset gives back exactly the keys set, in increasing
-// Morton code (the octree's order), and RayCaster gives the same free voxels as liboctomap's
+// Morton code (the octree's order), its table-driven trySet marks what set marks, and RayCaster gives the same free voxels as liboctomap's
 // computeRayKeys into a hash set minus the occupied ones (as insertPointCloud does), sorted,
 // with the bitset (small box, one and two threads) and with the hash set fallback (huge box).
 #include <gtest/gtest.h>
@@ -121,6 +121,37 @@ TEST(OctoMapVoxelBitset, GivesBackTheKeysSetInMortonOrder) {
   EXPECT_FALSE(a.contains(octomap::OcTreeKey(32768 + 200, 32768, 32768)));
   // A box too large for bits is refused (the caller then uses a hash set).
   EXPECT_FALSE(a.reset(octomap::OcTreeKey(0, 0, 0), octomap::OcTreeKey(4000, 4000, 4000)));
+}
+
+TEST(OctoMapVoxelBitset, TrySetMarksWhatSetMarksAndRefusesKeysOutsideTheBox) {
+  // A box not aligned on superbricks, keys across its edges: the per-axis tables must give the
+  // same word and bit as set(), and every key just outside must be refused.
+  const octomap::OcTreeKey lo(32768 - 37, 32768 + 5, 32768 - 70), hi(32768 + 21, 32768 + 90, 32768 - 2);
+  VoxelBitset bySet, byTry;
+  ASSERT_TRUE(bySet.reset(lo, hi));
+  ASSERT_TRUE(byTry.reset(lo, hi));
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> d(-40, 120);
+  int inside = 0, outside = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const octomap::OcTreeKey k(static_cast<octomap::key_type>(32768 + d(rng) - 40), static_cast<octomap::key_type>(32768 + d(rng)),
+                               static_cast<octomap::key_type>(32768 + d(rng) - 100));
+    const bool in = bySet.contains(k);
+    EXPECT_EQ(byTry.trySet(k[0], k[1], k[2]), in);
+    if (!in) {
+      ++outside;
+      continue;
+    }
+    ++inside;
+    bySet.set(k);
+    EXPECT_TRUE(byTry.test(k));
+  }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 1000);
+  std::vector<octomap::OcTreeKey> a, b;
+  VoxelBitset::collect(bySet, nullptr, nullptr, a);
+  VoxelBitset::collect(byTry, nullptr, nullptr, b);
+  EXPECT_TRUE(codes(a) == codes(b));
 }
 
 TEST(OctoMapRayCaster, OneThreadBitsetMatchesComputeRayKeys) { expectSameAsReference(300, 3.0f, 0.0f); }
