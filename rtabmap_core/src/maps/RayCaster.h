@@ -11,9 +11,9 @@
 // KeyRay that is then read back, its tMax live in an array indexed by the axis, and its axis
 // choice is a branch the CPU mispredicts about every other step: fused with the marking, in
 // registers and branch-free, a step costs about half as much, and the rays were close to half
-// of an OctoMap update. (Keys are ints here, where computeRayKeys wraps them at 16 bits: they
-// would differ only for a ray leaving the tree's key range, 65,536 voxels a side, which a ray
-// between two keys inside it does not.)
+// of an OctoMap update. (Keys are ints here, where computeRayKeys wraps them at 16 bits: the
+// two could differ only for a step past the edge of the tree's key range, 65,536 voxels a side,
+// and both then store the same wrapped key.)
 //
 // Each voxel must come out once per grid (OctoMap's insertPointCloud does the same with a hash
 // set). Rays from one view point overlap heavily near it, and a hash set insert per ray step
@@ -22,8 +22,9 @@
 // the octree update needs). Larger boxes (and the rare step just outside the box) go through a
 // hash set, sorted afterwards.
 //
-// Many rays are cast on two threads (computeRayKeys only reads the tree): the second half of the
-// rays on a worker with its own bitset; the union of both is the serial result.
+// Many rays are cast on two threads (the walk only reads the tree's resolution and key
+// lattice): the second half of the rays on a worker with its own bitset; the union of both is
+// the serial result.
 #include <octomap/OcTreeKey.h>
 #include <octomap/octomap_types.h>
 
