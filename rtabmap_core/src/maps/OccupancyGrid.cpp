@@ -422,11 +422,14 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     // layers of every tile they are in; moved and new nodes are in none).
     std::vector<int> fullReplay;
     double fullCells = 0.0;
+    // The lambdas below capture the structured binding `id` by init-capture: C++17 does not let
+    // a lambda name a structured binding otherwise (GCC allows it, clang, the sanitizer and fuzz
+    // builds' compiler, refuses it).
     for (const auto& [id, pose] : ch.target) {
       if (appendedSet.count(id)) continue;
       const auto t = tilesOf.find(id);
       if (retiled.count(id) || t == tilesOf.end() ||
-          std::any_of(t->second.begin(), t->second.end(), [&](int64_t k) { return writesIn(id, k); })) {
+          std::any_of(t->second.begin(), t->second.end(), [&, id = id](int64_t k) { return writesIn(id, k); })) {
         fullReplay.push_back(id);
         fullCells += double(cache.at(id).count());
       }
@@ -469,7 +472,7 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
       for (const auto& [id, pose] : ch.target) {
         if (appendedSet.count(id)) continue;
         const std::vector<int64_t>& t = newTiles.count(id) ? newTiles.at(id) : tilesOf.at(id);
-        if (std::any_of(t.begin(), t.end(), [&](int64_t k) { return storage.isDirty(k) && writesIn(id, k); })) {
+        if (std::any_of(t.begin(), t.end(), [&, id = id](int64_t k) { return storage.isDirty(k) && writesIn(id, k); })) {
           replay.push_back(id);
           regionUnits += double(cache.at(id).count());
         } else if (std::any_of(t.begin(), t.end(), [&](int64_t k) { return storage.isDirty(k); })) {
