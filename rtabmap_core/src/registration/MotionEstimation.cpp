@@ -155,16 +155,26 @@ MotionEstimate estimateMotion3DTo2D(const std::vector<cv::Point3f>& objectPoints
     result.rejectedMsg = "PnP RANSAC found no consistent pose among " + std::to_string(obj.size()) + " correspondences";
     return result;
   }
-  // The correspondences within the reprojection error under a pose; `projected` keeps the last
-  // call's projections (the inlier RMSE below reads them).
+  // The correspondences within the reprojection error under a pose, in front of the camera;
+  // `projected` keeps the last call's projections (the inlier RMSE below reads them). A pinhole
+  // projects a point behind the camera too (x/z is unchanged when x and z change sign), so
+  // without the depth test a pose that puts a near-planar scene behind the camera, turned about
+  // half a turn, can count the same inliers as the true one (a 3 m, 180 degree error accepted
+  // in RegistrationVis_test's room with other textures).
   const float thr2 = options.reprojError * options.reprojError;
   std::vector<cv::Point2f> projected;
   auto inliersUnder = [&](const cv::Mat& r, const cv::Mat& t, std::vector<int>& out) {
     cv::projectPoints(obj, r, t, K, cv::noArray(), projected);
+    cv::Matx33d R;
+    cv::Rodrigues(r, R);
+    cv::Mat_<double> tz;
+    t.convertTo(tz, CV_64F);
     out.clear();
     for (size_t i = 0; i < obj.size(); ++i) {
       const cv::Point2f d = projected[i] - img[i];
-      if (d.dot(d) <= thr2) out.push_back(static_cast<int>(i));
+      const cv::Point3f& X = obj[i];
+      const double depth = R(2, 0) * X.x + R(2, 1) * X.y + R(2, 2) * X.z + tz(2);
+      if (d.dot(d) <= thr2 && depth > 0.0) out.push_back(static_cast<int>(i));
     }
   };
   auto subset = [&](const std::vector<int>& ids, std::vector<cv::Point3f>& o, std::vector<cv::Point2f>& p) {

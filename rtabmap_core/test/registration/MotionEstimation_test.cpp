@@ -7,6 +7,7 @@
 #include <random>
 #include <string>
 
+#include "common/TestData.h"
 #include "rtabmap_core/registration/MotionEstimation.h"
 
 namespace rtabmap {
@@ -18,7 +19,7 @@ const CameraModel kCamera(525.0, 525.0, 319.5, 239.5, CameraModel::opticalRotati
 std::vector<cv::Point3f> scenePoints(int n, std::mt19937& rng) {
   std::uniform_real_distribution<float> x(1.0f, 5.0f), y(-2.0f, 2.0f), z(-1.5f, 1.5f);
   std::vector<cv::Point3f> points;
-  for (int i = 0; i < n; ++i) points.emplace_back(x(rng), y(rng), z(rng));
+  for (int i = 0; i < n; ++i) points.push_back(cv::Point3f{x(rng), y(rng), z(rng)});  // braces: drawn in order
   return points;
 }
 
@@ -36,6 +37,35 @@ bool projectFrom(const Transform& motion, const cv::Point3f& p, cv::Point2f& uv)
   return u >= 0 && v >= 0 && u < 640 && v < 480;
 }
 
+// Pixels of points behind the camera: a pinhole maps (x, y, z) and (-x, -y, -z) to the same
+// pixel, so the pose that puts the scene behind the camera reprojects it perfectly. No pose with
+// the points in front explains them: PnP must refuse rather than return that pose.
+TEST(MotionEstimation, PnPRefusesAPoseThatPutsThePointsBehindTheCamera) {
+  std::mt19937 rng(test::drawSeed(8));
+  const Transform behind(0.1, 0.05, 0.0, 0.0, 0.0, M_PI);  // turned around: the scene at its back
+  const Transform cameraFromReference = (behind * kCamera.localTransform()).inverse();
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  for (const cv::Point3f& p : scenePoints(400, rng)) {
+    const cv::Point3f c = apply(cameraFromReference, p);
+    ASSERT_LT(c.z, 0.0f);
+    const cv::Point2f uv(static_cast<float>(kCamera.fx() * c.x / c.z + kCamera.cx()),
+                         static_cast<float>(kCamera.fy() * c.y / c.z + kCamera.cy()));
+    if (uv.x < 0 || uv.y < 0 || uv.x >= 640 || uv.y >= 480) continue;
+    object.push_back(p);
+    image.push_back(uv);
+  }
+  ASSERT_GT(object.size(), 100u);
+  for (int flags : {0, 1, 2}) {  // iterative, EPnP, P3P
+    SCOPED_TRACE("flags " + std::to_string(flags));
+    PnPOptions options;
+    options.flags = flags;
+    const MotionEstimate e = estimateMotion3DTo2D(object, image, kCamera, options);
+    EXPECT_TRUE(e.transform.isNull()) << e.transform.prettyPrint() << " with " << e.inliers.size() << " inliers";
+    EXPECT_NE(e.rejectedMsg.find("inliers"), std::string::npos) << e.rejectedMsg;
+  }
+}
+
 TEST(MotionEstimation, PnPRansacRecoversTransformWith30PercentOutliers) {
   std::mt19937 rng(7);
   const Transform motion(0.15, -0.05, 0.02, 0.02, -0.03, 0.12);
@@ -46,7 +76,7 @@ TEST(MotionEstimation, PnPRansacRecoversTransformWith30PercentOutliers) {
     cv::Point2f uv;
     if (!projectFrom(motion, p, uv)) continue;
     object.push_back(p);
-    image.push_back(uv + cv::Point2f(pixelNoise(rng), pixelNoise(rng)));
+    image.push_back(uv + cv::Point2f{pixelNoise(rng), pixelNoise(rng)});
   }
   ASSERT_GT(object.size(), 200u);
   // 30% of the correspondences: random pixels.
@@ -54,7 +84,7 @@ TEST(MotionEstimation, PnPRansacRecoversTransformWith30PercentOutliers) {
   const size_t outliers = object.size() * 3 / 7;
   std::vector<bool> isOutlier(object.size(), false);
   for (size_t i = 0; i < outliers; ++i) {
-    image[i] = cv::Point2f(u(rng), v(rng));
+    image[i] = cv::Point2f{u(rng), v(rng)};
     isOutlier[i] = true;
   }
   // Vis/PnPShuffleSeed: other draws, the same answer, inliers still indexing the caller's arrays.
@@ -82,10 +112,10 @@ TEST(MotionEstimation, RigidRansacRecoversTransformWith30PercentOutliers) {
   std::vector<cv::Point3f> reference = scenePoints(300, rng), moved;
   std::normal_distribution<float> noise(0.0f, 0.005f);
   for (const cv::Point3f& p : reference) {
-    moved.push_back(apply(motion.inverse(), p) + cv::Point3f(noise(rng), noise(rng), noise(rng)));
+    moved.push_back(apply(motion.inverse(), p) + cv::Point3f{noise(rng), noise(rng), noise(rng)});
   }
   std::uniform_real_distribution<float> box(-3.0f, 3.0f);
-  for (size_t i = 0; i < 90; ++i) moved[i] = cv::Point3f(box(rng), box(rng), box(rng));
+  for (size_t i = 0; i < 90; ++i) moved[i] = cv::Point3f{box(rng), box(rng), box(rng)};
   RigidOptions options;
   options.inlierDistance = 0.05f;
   const MotionEstimate e = estimateMotion3DTo3D(reference, moved, options);
@@ -114,7 +144,7 @@ TEST(MotionEstimation, RejectionsSayWhy) {
   std::vector<cv::Point3f> many = scenePoints(200, rng);
   std::vector<cv::Point2f> random;
   std::uniform_real_distribution<float> u(0, 640), v(0, 480);
-  for (size_t i = 0; i < many.size(); ++i) random.emplace_back(u(rng), v(rng));
+  for (size_t i = 0; i < many.size(); ++i) random.push_back(cv::Point2f{u(rng), v(rng)});
   e = estimateMotion3DTo2D(many, random, kCamera, PnPOptions());
   EXPECT_TRUE(e.transform.isNull());
   EXPECT_FALSE(e.rejectedMsg.empty());
@@ -142,7 +172,7 @@ TEST(MotionEstimation, CovarianceFollowsTheNoise) {
     std::vector<cv::Point3f> moved;
     inliers.clear();
     for (size_t i = 0; i < reference.size(); ++i) {
-      moved.push_back(apply(motion.inverse(), reference[i]) + cv::Point3f(noise(rng), noise(rng), noise(rng)));
+      moved.push_back(apply(motion.inverse(), reference[i]) + cv::Point3f{noise(rng), noise(rng), noise(rng)});
       inliers.push_back(static_cast<int>(i));
     }
     const Eigen::Matrix<double, 6, 6> c = covarianceFromInliers(reference, moved, inliers, motion);

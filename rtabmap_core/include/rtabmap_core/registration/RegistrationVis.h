@@ -131,11 +131,17 @@ class RegistrationVis {
   Transform computeTransform(Signature& from, Signature& to, const Transform& guess = Transform(),
                              RegistrationInfo* info = nullptr) const;
 
-  // Registration of two prepared frames.
+  // Registration of two prepared frames. With optical flow (Vis/CorType 1) and no guess, a
+  // second pass tracks again from where the first pass's transform predicts each point and is
+  // kept when it has more inliers.
   Transform computeTransform(const VisualFrame& from, const VisualFrame& to, const Transform& guess,
                              RegistrationInfo* info = nullptr, VisualCorrespondences* details = nullptr) const;
 
  private:
+  // One pass: correspondences, motion estimation, acceptance.
+  Transform estimate(const VisualFrame& from, const VisualFrame& to, const Transform& guess, RegistrationInfo& info,
+                     VisualCorrespondences* details) const;
+  bool tracksByOpticalFlow(const VisualFrame& from, const VisualFrame& to) const;
   VisualFrame frameOf(Signature& node, std::string* problem) const;
 
   RegistrationVisOptions options_;
