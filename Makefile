@@ -7,11 +7,12 @@
 #   make fuzz       libFuzzer targets of every parser of outside data, FUZZ_SECONDS (60) each
 #   make test-asan  the core's unit tests built with AddressSanitizer + UBSan (build/asan)
 #   make test-tsan  the core's unit tests built with ThreadSanitizer (build/tsan)
+#   make test-draws the suites on synthetic scenes over DRAWS (20) other random draws of the scenes
 #   make soak    build, then hours of the simulator's robot through ROS (SOAK_ARGS, see tools/soak/run_soak.py)
 SHELL := /bin/bash
 .SHELLFLAGS := -eo pipefail -c
 .DEFAULT_GOAL := build
-.PHONY: build deps configure test demo bench clean fuzz test-asan test-tsan soak
+.PHONY: build deps configure test demo bench clean fuzz test-asan test-tsan test-draws soak
 
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 BUILD := $(ROOT)/build
@@ -55,6 +56,10 @@ build: configure
 
 test: build
 	@$(ROOT)/tools/build/run-tests.sh $(WS) $(JOBS)
+
+DRAWS ?= 20
+test-draws: build
+	@$(ROOT)/tools/build/test-draws.sh $(WS)/build/rtabmap_ros/rtabmap_core/test $(DRAWS)
 
 demo: build
 	@$(IN_WS) $(ROOT)/tools/build/run-demo.sh $(WS) $(DEMO_ARGS)

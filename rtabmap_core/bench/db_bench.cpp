@@ -151,11 +151,11 @@ class NodeFactory {
         wordId = 1 + static_cast<int>(random_.next() % static_cast<uint64_t>(lastWordId_ - fresh));
       }
       wordIds.emplace(wordId, i);
-      keypoints[i] = cv::KeyPoint(640 * random_.uniform(), 480 * random_.uniform(), 31.0f, 360 * random_.uniform(),
-                                  random_.uniform(), static_cast<int>(random_.next() % 8));
+      keypoints[i] = cv::KeyPoint{640 * random_.uniform(), 480 * random_.uniform(), 31.0f, 360 * random_.uniform(),
+                                  random_.uniform(), static_cast<int>(random_.next() % 8)};  // braces: in order
       const float nan = std::numeric_limits<float>::quiet_NaN();
       points[i] = i % 10 == 0 ? cv::Point3f(nan, nan, nan)
-                              : cv::Point3f(0.5f + 4 * random_.uniform(), random_.uniform() - 0.5f, random_.uniform());
+                              : cv::Point3f{0.5f + 4 * random_.uniform(), random_.uniform() - 0.5f, random_.uniform()};
     }
     Signature node(id, 0, 0, 1000.0 + id, "", Transform(0.1 * id, 0.0, 0.0, 0.0, 0.0, 0.001 * id));
     node.setWords(wordIds, keypoints, points, descriptors);

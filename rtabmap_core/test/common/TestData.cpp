@@ -17,6 +17,11 @@ std::string sharedDataDir() {
   return fs::weakly_canonical(dir, ec).string();
 }
 
+unsigned drawSeed(unsigned seed) {
+  const char* env = std::getenv("RTABMAP_TEST_DRAW");
+  return seed + ((env && *env) ? static_cast<unsigned>(std::strtoul(env, nullptr, 10)) : 0u);
+}
+
 std::string sharedDataPath(const std::string& relative) {
   const std::string dir = sharedDataDir();
   if (dir.empty()) return "";

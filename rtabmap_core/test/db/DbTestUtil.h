@@ -63,9 +63,10 @@ inline Signature makeNode(int id, int mapId, int words = 40) {
   std::vector<cv::Point3f> points;
   for (int i = 0; i < words; ++i) {
     wordIds.emplace(wordIdOf(id, i), i);
-    keypoints.emplace_back(640 * u(rng), 480 * u(rng), 31.0f, 360 * u(rng), u(rng), i % 4, -1);
+    // Braces: the draws happen in order (as arguments of a call the order is the compiler's).
+    keypoints.push_back(cv::KeyPoint{640 * u(rng), 480 * u(rng), 31.0f, 360 * u(rng), u(rng), i % 4, -1});
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    points.push_back(i % 5 == 0 ? cv::Point3f(nan, nan, nan) : cv::Point3f(u(rng), u(rng), 5 * u(rng)));
+    points.push_back(i % 5 == 0 ? cv::Point3f(nan, nan, nan) : cv::Point3f{u(rng), u(rng), 5 * u(rng)});
   }
   node.setWords(wordIds, keypoints, points, randomMat(words, 32, CV_8UC1, static_cast<unsigned>(id) * 31));
 

@@ -27,7 +27,7 @@ Trajectory wiggly(size_t n, unsigned seed) {
     x += std::cos(yaw) * 0.3;
     y += std::sin(yaw) * 0.3;
     z += g(rng);
-    t.add(100.0 + 0.1 * static_cast<double>(i), Transform(x, y, z, g(rng), g(rng), yaw));
+    t.add(100.0 + 0.1 * static_cast<double>(i), Transform{x, y, z, g(rng), g(rng), yaw});
   }
   return t;
 }

@@ -27,9 +27,9 @@ Trajectory randomTrajectory(size_t n, bool planar, unsigned seed) {
   for (size_t i = 0; i < n; ++i) {
     stamp += 0.05 + 0.001 * static_cast<double>(i % 7);
     if (planar) {
-      t.add(stamp, Transform(u(rng), u(rng), u(rng)));
+      t.add(stamp, Transform{u(rng), u(rng), u(rng)});  // braces: drawn in order
     } else {
-      t.add(stamp, Transform(u(rng), u(rng), u(rng), u(rng), u(rng) / 3.0, u(rng)));
+      t.add(stamp, Transform{u(rng), u(rng), u(rng), u(rng), u(rng) / 3.0, u(rng)});
     }
   }
   return t;

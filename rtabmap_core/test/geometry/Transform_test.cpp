@@ -28,7 +28,7 @@ Eigen::Matrix3d eulerRef(double roll, double pitch, double yaw) {
 
 Transform randomTransform(std::mt19937& rng) {
   std::uniform_real_distribution<double> t(-10, 10), a(-M_PI, M_PI), p(-1.5, 1.5);
-  return Transform(t(rng), t(rng), t(rng), a(rng), p(rng), a(rng));
+  return Transform{t(rng), t(rng), t(rng), a(rng), p(rng), a(rng)};  // braces: drawn in order
 }
 
 void expectNear(const Transform& a, const Transform& b, double eps = 1e-9) {

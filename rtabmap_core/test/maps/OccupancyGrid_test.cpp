@@ -364,7 +364,8 @@ TEST(OccupancyGrid, TheCostModelLearnsFromMeasuredPaths) {
   std::normal_distribution<double> noise(0.0, 0.05);
   for (int k = 0; k < 6; ++k) {
     std::map<int, Transform> moved;
-    for (const auto& [id, p] : run.poses) moved[id] = Transform(noise(rng), noise(rng), 0.0) * p;
+    // Braces: drawn in order.
+    for (const auto& [id, p] : run.poses) moved[id] = Transform{noise(rng), noise(rng), 0.0} * p;
     const GridUpdateSummary s = grid.update(moved);
     EXPECT_NE(s.path, Path::kIncremental);
     EXPECT_EQ(s.nodesMoved, 40);

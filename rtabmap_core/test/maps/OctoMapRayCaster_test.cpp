@@ -59,7 +59,7 @@ std::vector<octomap::point3d> sphere(const octomap::point3d& origin, float radiu
   std::uniform_real_distribution<float> r(0.3f, 1.0f);
   std::vector<octomap::point3d> out;
   for (int i = 0; i < count; ++i) {
-    octomap::point3d d(n(rng), n(rng), n(rng));
+    octomap::point3d d{n(rng), n(rng), n(rng)};  // braces: drawn in order
     d.normalize();
     out.push_back(origin + d * (radius * r(rng)));
   }
@@ -96,8 +96,8 @@ TEST(OctoMapVoxelBitset, GivesBackTheKeysSetInMortonOrder) {
   std::vector<uint64_t> want;
   std::vector<uint64_t> masked;
   for (int i = 0; i < 20000; ++i) {
-    const octomap::OcTreeKey k(static_cast<octomap::key_type>(32768 + d(rng)), static_cast<octomap::key_type>(32768 + d(rng)),
-                               static_cast<octomap::key_type>(32768 + d(rng)));
+    const octomap::OcTreeKey k{static_cast<octomap::key_type>(32768 + d(rng)), static_cast<octomap::key_type>(32768 + d(rng)),
+                               static_cast<octomap::key_type>(32768 + d(rng))};
     ASSERT_TRUE(a.contains(k));
     if (i % 10 == 0) {
       mask.set(k);
@@ -134,8 +134,8 @@ TEST(OctoMapVoxelBitset, TrySetMarksWhatSetMarksAndRefusesKeysOutsideTheBox) {
   std::uniform_int_distribution<int> d(-40, 120);
   int inside = 0, outside = 0;
   for (int i = 0; i < 20000; ++i) {
-    const octomap::OcTreeKey k(static_cast<octomap::key_type>(32768 + d(rng) - 40), static_cast<octomap::key_type>(32768 + d(rng)),
-                               static_cast<octomap::key_type>(32768 + d(rng) - 100));
+    const octomap::OcTreeKey k{static_cast<octomap::key_type>(32768 + d(rng) - 40), static_cast<octomap::key_type>(32768 + d(rng)),
+                               static_cast<octomap::key_type>(32768 + d(rng) - 100)};
     const bool in = bySet.contains(k);
     EXPECT_EQ(byTry.trySet(k[0], k[1], k[2]), in);
     if (!in) {

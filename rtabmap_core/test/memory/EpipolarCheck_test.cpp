@@ -23,7 +23,8 @@ std::vector<cv::Point3f> scene(int n, uint64_t seed) {
   cv::RNG rng(seed);
   std::vector<cv::Point3f> points;
   for (int i = 0; i < n; ++i) {
-    points.emplace_back(rng.uniform(-2.5f, 2.5f), rng.uniform(-1.8f, 1.8f), rng.uniform(3.f, 8.f));
+    // Braces: drawn in order.
+    points.push_back(cv::Point3f{rng.uniform(-2.5f, 2.5f), rng.uniform(-1.8f, 1.8f), rng.uniform(3.f, 8.f)});
   }
   return points;
 }

@@ -11,7 +11,7 @@ TEST(OdometryF2F, FollowsWithDescriptorMatching) {
   OdometryF2F odom;
   const test::OdometryRun run = test::runOdometry(odom, 60, test::rgbdFrame);
   EXPECT_EQ(run.lost, 0);
-  EXPECT_LT(run.maxError, 0.04);
+  EXPECT_LT(run.maxError, 0.045);
   EXPECT_GT(odom.keyFramesAdded(), 1);
   EXPECT_FALSE(odom.keyFramePose().isNull());
 }
@@ -27,7 +27,7 @@ TEST(OdometryF2F, FollowsAStereoSequence) {
   OdometryF2F odom(ParametersMap{{"Vis/CorType", "1"}});
   const test::OdometryRun run = test::runOdometry(odom, 60, test::stereoFrame);
   EXPECT_EQ(run.lost, 0);
-  EXPECT_LT(run.maxError, 0.05);
+  EXPECT_LT(run.maxError, 0.07);
 }
 
 TEST(OdometryF2F, LostOnBlankFramesThenRecovers) {

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/TestData.h"
 #include "rtabmap_core/geometry/CameraModel.h"
 #include "rtabmap_core/geometry/SensorData.h"
 #include "rtabmap_core/geometry/StereoCameraModel.h"
@@ -24,7 +25,7 @@ class SyntheticRoom {
  public:
   explicit SyntheticRoom(unsigned seed = 1, double halfSize = 3.0, double height = 2.5)
       : halfSize_(halfSize), height_(height) {
-    cv::RNG rng(seed);
+    cv::RNG rng(drawSeed(seed));
     for (cv::Mat& t : textures_) t = makeTexture(rng);
   }
 
@@ -112,7 +113,7 @@ class SyntheticRoom {
     cv::Mat t;
     cv::resize(small, t, cv::Size(kTextureSize, kTextureSize), 0, 0, cv::INTER_CUBIC);
     for (int i = 0; i < 700; ++i) {
-      const cv::Point c(rng.uniform(0, kTextureSize), rng.uniform(0, kTextureSize));
+      const cv::Point c{rng.uniform(0, kTextureSize), rng.uniform(0, kTextureSize)};  // braces: drawn in order
       const int s = rng.uniform(4, 22);
       const cv::Scalar g(rng.uniform(0, 256));
       if (rng.uniform(0, 3) == 0) {

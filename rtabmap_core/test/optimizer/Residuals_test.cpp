@@ -122,7 +122,7 @@ Matrix6 randomSqrtInfo6(std::mt19937& rng) {
 
 Transform randomPose(std::mt19937& rng, double angleScale = M_PI) {
   std::uniform_real_distribution<double> t(-5.0, 5.0), a(-angleScale, angleScale);
-  return Transform(t(rng), t(rng), t(rng), a(rng), a(rng) / 2, a(rng));
+  return Transform{t(rng), t(rng), t(rng), a(rng), a(rng) / 2, a(rng)};  // braces: drawn in order
 }
 
 std::vector<double> se3Block(const Transform& t) {
@@ -155,7 +155,7 @@ TEST(Residuals, Se2EdgeJacobiansMatchNumericalDerivatives) {
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> t(-5, 5), a(-M_PI, M_PI);
   for (int trial = 0; trial < 20; ++trial) {
-    const Eigen::Vector3d z(t(rng), t(rng), a(rng));
+    const Eigen::Vector3d z{t(rng), t(rng), a(rng)};
     Se2EdgeCost cost(z, randomSqrtInfo3(rng));
     std::vector<std::vector<double>> blocks = {{t(rng), t(rng), 3 * a(rng)},
                                                {t(rng), t(rng), 3 * a(rng)}};
@@ -167,7 +167,7 @@ TEST(Residuals, Se2EdgeAutoDiffMatchesAnalytic) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> t(-5, 5), a(-M_PI, M_PI);
   for (int trial = 0; trial < 10; ++trial) {
-    const Eigen::Vector3d z(t(rng), t(rng), a(rng));
+    const Eigen::Vector3d z{t(rng), t(rng), a(rng)};
     const Eigen::Matrix3d s = randomSqrtInfo3(rng);
     std::unique_ptr<ceres::CostFunction> analytic(makeSe2EdgeCost(z, s, false));
     std::unique_ptr<ceres::CostFunction> automatic(makeSe2EdgeCost(z, s, true));
@@ -258,7 +258,8 @@ TEST(Residuals, PriorJacobiansMatchNumericalDerivatives) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> t(-5, 5), a(-M_PI, M_PI);
   for (int trial = 0; trial < 10; ++trial) {
-    Se2PriorCost se2(Eigen::Vector3d(t(rng), t(rng), a(rng)), randomSqrtInfo3(rng));
+    const Eigen::Vector3d prior{t(rng), t(rng), a(rng)};
+    Se2PriorCost se2(prior, randomSqrtInfo3(rng));
     expectJacobiansMatchNumerical(se2, {{t(rng), t(rng), 3 * a(rng)}}, {3}, {kPlus3});
     const Transform z = randomPose(rng);
     Se3PriorCost se3(z.translation(), z.quaternion(), randomSqrtInfo6(rng));

@@ -6,6 +6,7 @@
 #include <map>
 #include <random>
 
+#include "common/TestData.h"
 #include "rtabmap_core/geometry/Transform.h"
 #include "rtabmap_core/memory/Link.h"
 
@@ -32,15 +33,16 @@ inline Link::InfMatrix informationOf(const NoiseModel& noise, bool is2D) {
   return info;
 }
 
-// A measured relative transform: the true one perturbed on the right by noise.
+// A measured relative transform: the true one perturbed on the right by noise. Braces draw the
+// components left to right; in parentheses the order would be the compiler's (GCC and clang differ).
 inline Transform noisy(const Transform& t, const NoiseModel& noise, bool is2D, std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   if (is2D) {
-    return t * Transform(noise.sigmaXY * n(rng), noise.sigmaXY * n(rng), noise.sigmaAngle * n(rng));
+    return t * Transform{noise.sigmaXY * n(rng), noise.sigmaXY * n(rng), noise.sigmaAngle * n(rng)};
   }
-  return t * Transform(noise.sigmaXY * n(rng), noise.sigmaXY * n(rng), noise.sigmaZ * n(rng),
+  return t * Transform{noise.sigmaXY * n(rng), noise.sigmaXY * n(rng), noise.sigmaZ * n(rng),
                        noise.sigmaAngle * n(rng), noise.sigmaAngle * n(rng),
-                       noise.sigmaAngle * n(rng));
+                       noise.sigmaAngle * n(rng)};
 }
 
 // `laps` laps of a square of side `side` metres, one node per metre, ids firstId..; in 3D the
@@ -50,7 +52,7 @@ inline Transform noisy(const Transform& t, const NoiseModel& noise, bool is2D, s
 inline SyntheticGraph makeSquareLoops(int laps, int side, bool is2D, const NoiseModel& noise,
                                       unsigned seed, int firstId = 1, double climb = 0.0) {
   SyntheticGraph g;
-  std::mt19937 rng(seed);
+  std::mt19937 rng(drawSeed(seed));
   const int perLap = 4 * side;
   const int count = laps * perLap;
   for (int k = 0; k < count; ++k) {

@@ -48,7 +48,9 @@ std::vector<Eigen::Vector2f> scanFrom(const std::vector<Eigen::Vector2f>& refere
   for (size_t i = 0; i < reference.size(); i += every) {
     const Eigen::Vector2f d = reference[i] - pose.head<2>();
     if (d.norm() > range) continue;
-    out.emplace_back(c * d.x() + s * d.y() + (noise > 0 ? n(rng) : 0.f), -s * d.x() + c * d.y() + (noise > 0 ? n(rng) : 0.f));
+    const float ex = noise > 0 ? n(rng) : 0.f;  // drawn in this order on every compiler
+    const float ey = noise > 0 ? n(rng) : 0.f;
+    out.emplace_back(c * d.x() + s * d.y() + ex, -s * d.x() + c * d.y() + ey);
   }
   return out;
 }

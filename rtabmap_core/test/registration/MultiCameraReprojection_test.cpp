@@ -142,8 +142,9 @@ TEST(MultiCameraReprojection, RefinementRecoversTheMotionFromBothCameras) {
     CameraObservation o;
     o.camera = i % 2;
     // In front of each camera, 2-5 m away, in the reference frame.
-    o.point = o.camera == 0 ? Eigen::Vector3d(3.5 + 1.5 * u(rng), 1.0 * u(rng), 0.5 + 0.8 * u(rng))
-                            : Eigen::Vector3d(0.8 * u(rng), 3.5 + 1.5 * u(rng), 0.5 + 0.8 * u(rng));
+    const double a = u(rng), b = u(rng), h = u(rng);  // in this order on every compiler
+    o.point = o.camera == 0 ? Eigen::Vector3d(3.5 + 1.5 * a, 1.0 * b, 0.5 + 0.8 * h)
+                            : Eigen::Vector3d(0.8 * a, 3.5 + 1.5 * b, 0.5 + 0.8 * h);
     o.pixel = opencvPixel(cams[o.camera], truth, o.point);
     obs.push_back(o);
   }

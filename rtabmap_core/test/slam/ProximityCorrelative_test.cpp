@@ -66,7 +66,8 @@ Points scanFrom(const Points& world, const Eigen::Vector3f& pose, float range, u
   for (size_t i = 0; i < world.size(); i += 2) {
     const Eigen::Vector2f d = world[i] - pose.head<2>();
     if (d.norm() > range) continue;
-    out.emplace_back(c * d.x() + s * d.y() + n(rng), -s * d.x() + c * d.y() + n(rng));
+    const float ex = n(rng), ey = n(rng);  // in this order on every compiler
+    out.emplace_back(c * d.x() + s * d.y() + ex, -s * d.x() + c * d.y() + ey);
   }
   return out;
 }
