@@ -54,9 +54,11 @@ void LoopGroundTruth::addLoop(int a, int b) {
 }
 
 void LoopGroundTruth::finish() {
-  for (auto& l : loops_) {
-    std::sort(l.begin(), l.end());
-    l.erase(std::unique(l.begin(), l.end()), l.end());
+  for (auto* lists : {&loops_, &ambiguous_}) {
+    for (auto& l : *lists) {
+      std::sort(l.begin(), l.end());
+      l.erase(std::unique(l.begin(), l.end()), l.end());
+    }
   }
 }
 
@@ -127,20 +129,41 @@ LoopGroundTruth LoopGroundTruth::readMatrix(const std::string& path) {
 
 LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, double maxDistance,
                                            double maxAngle, int minFrameGap) {
+  return fromPoses(poses, maxDistance, maxAngle, minFrameGap, 0.0, 0.0);
+}
+
+LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, double maxDistance,
+                                           double maxAngle, int minFrameGap, double ambiguousDistance,
+                                           double ambiguousAngle) {
   if (!(maxDistance >= 0.0)) throw FormatError("loop ground truth: the distance threshold must be >= 0");
+  if (!(ambiguousDistance >= 0.0)) throw FormatError("loop ground truth: the ambiguous distance must be >= 0");
+  const bool band = ambiguousDistance > 0.0;
+  if (band && ambiguousDistance < maxDistance) {
+    throw FormatError("loop ground truth: the ambiguous band (" + std::to_string(ambiguousDistance) +
+                      " m) must reach at least the loop distance (" + std::to_string(maxDistance) + " m)");
+  }
   LoopGroundTruth gt;
   gt.size_ = static_cast<int>(poses.size());
   gt.loops_.assign(poses.size(), {});
+  if (band) gt.ambiguous_.assign(poses.size(), {});
   const double maxSq = maxDistance * maxDistance;
+  const double bandSq = ambiguousDistance * ambiguousDistance;
   const size_t gap = static_cast<size_t>(std::max(1, minFrameGap));
   for (size_t i = 0; i < poses.size(); ++i) {
     if (poses[i].isNull()) continue;
     const Eigen::Vector3d pi = poses[i].translation();
     for (size_t j = 0; j + gap <= i; ++j) {
       if (poses[j].isNull()) continue;
-      if ((poses[j].translation() - pi).squaredNorm() > maxSq) continue;
-      if (maxAngle > 0.0 && (poses[i].inverse() * poses[j]).getAngle() > maxAngle) continue;
-      gt.addLoop(static_cast<int>(i) + 1, static_cast<int>(j) + 1);
+      const double sq = (poses[j].translation() - pi).squaredNorm();
+      if (sq > std::max(maxSq, band ? bandSq : 0.0)) continue;
+      const double angle = (poses[i].inverse() * poses[j]).getAngle();
+      const int a = static_cast<int>(i) + 1, b = static_cast<int>(j) + 1;
+      if (sq <= maxSq && (maxAngle <= 0.0 || angle <= maxAngle)) {
+        gt.addLoop(a, b);
+      } else if (band && (ambiguousAngle <= 0.0 || angle <= ambiguousAngle)) {
+        gt.ambiguous_[i].push_back(b);
+        gt.ambiguous_[j].push_back(a);
+      }
     }
   }
   gt.finish();
@@ -150,6 +173,12 @@ LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, 
 bool LoopGroundTruth::isLoop(int a, int b) const {
   if (a < 1 || b < 1 || a > size_ || b > size_ || a == b) return false;
   const auto& l = loops_[static_cast<size_t>(a - 1)];
+  return std::binary_search(l.begin(), l.end(), b);
+}
+
+bool LoopGroundTruth::isAmbiguous(int a, int b) const {
+  if (ambiguous_.empty() || a < 1 || b < 1 || a > size_ || b > size_ || a == b) return false;
+  const auto& l = ambiguous_[static_cast<size_t>(a - 1)];
   return std::binary_search(l.begin(), l.end(), b);
 }
 
@@ -189,6 +218,10 @@ LoopClosurePR computeLoopClosurePR(const std::vector<LoopDetection>& detections,
     }
     ++r.detections;
     const bool correct = groundTruth.isLoop(d.queryId, d.matchedId);
+    if (!correct && groundTruth.isAmbiguous(d.queryId, d.matchedId)) {
+      if (d.confidence >= threshold) ++r.ambiguous;
+      continue;  // neither true nor false, at any threshold of the sweep
+    }
     scored.push_back({d.confidence, correct, correct && groundTruth.hasLoopWithEarlier(d.queryId)});
   }
   auto ratio = [](size_t a, size_t b, double ifZero) {

@@ -129,6 +129,25 @@ TEST(EvalTool, RelationsAndPr) {
   EXPECT_DOUBLE_EQ(r.last["recall_at_100_precision"].get<double>(), 1.0);
   EXPECT_DOUBLE_EQ(r.last["threshold_at_100_precision"].get<double>(), 0.9);
   EXPECT_NE(rtabmap::test::readText(dir.file("curve.txt")).find("0.9 1 1 1 0"), std::string::npos);
+
+  // Poses ground truth with the ambiguous band: image 4 (x = 1.5) matched to image 1 (x = 0) is
+  // false with two bands, neither with a band to 2 m.
+  writeText(dir.file("poses.txt"), "1 0 0 0 0 0 0 1\n2 5 0 0 0 0 0 1\n3 0.2 0 0 0 0 0 1\n4 1.5 0 0 0 0 0 1\n");
+  writeText(dir.file("d2.txt"), "3 1 0.9\n4 1 0.8\n");
+  const std::string poses = "pr --gt " + dir.file("poses.txt") + " --detections " + dir.file("d2.txt") +
+                            " --gt-type poses --format tum --distance 0.5 --angle 0 --min-gap 1 --json";
+  r = run(poses);
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  EXPECT_EQ(r.last["false_positives"], 1);
+  EXPECT_EQ(r.last["ambiguous"], 0);
+  r = run(poses + " --ambiguous-distance 2");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  EXPECT_EQ(r.last["true_positives"], 1);
+  EXPECT_EQ(r.last["false_positives"], 0);
+  EXPECT_EQ(r.last["ambiguous"], 1);
+  EXPECT_DOUBLE_EQ(r.last["precision"].get<double>(), 1.0);
+  EXPECT_NE(r.out.find("1 in the ambiguous band"), std::string::npos) << r.out;
+  EXPECT_EQ(run(poses + " --ambiguous-distance 0.3").exitCode, 2);  // narrower than the loop
 }
 
 TEST(EvalTool, AcesOdometryThroughTheTool) {

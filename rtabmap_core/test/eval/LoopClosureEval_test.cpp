@@ -127,6 +127,52 @@ TEST(LoopClosurePR, MatrixAsImageOrTextAndFromPoses) {
   EXPECT_TRUE(gt.isLoop(7, 4));
 }
 
+// Three bands, as the loop-closure issue's 7-Scenes ground truth: a loop within 0.5 m and 30
+// degrees, neither within 1.5 m and 60 degrees, false beyond.
+TEST(LoopClosurePR, AmbiguousBandIsNeitherTrueNorFalse) {
+  using rtabmap::LoopDetection;
+  using rtabmap::LoopGroundTruth;
+  using rtabmap::Transform;
+  std::vector<Transform> poses;
+  for (int i = 0; i < 10; ++i) poses.push_back(Transform(i, 0, 0));  // images 1..10 along x
+  poses.push_back(Transform(0.3, 0, 0.2));  // 11: back near image 1, turned 11 degrees
+  poses.push_back(Transform(1.0, 0, 0.8));  // 12: 1 m from image 1, 46 degrees off
+  poses.push_back(Transform(1.0, 0, 1.2));  // 13: 1 m from image 1, 69 degrees off
+  poses.push_back(Transform(3.0, 0, 0.0));  // 14: same place as image 4
+  const LoopGroundTruth gt = LoopGroundTruth::fromPoses(poses, 0.5, 30 * M_PI / 180, 5, 1.5, 60 * M_PI / 180);
+  EXPECT_TRUE(gt.isLoop(11, 1));
+  EXPECT_FALSE(gt.isAmbiguous(11, 1));  // a loop is not also ambiguous
+  EXPECT_TRUE(gt.isAmbiguous(11, 2));   // 0.7 m
+  EXPECT_TRUE(gt.isAmbiguous(2, 11));   // symmetric
+  EXPECT_TRUE(gt.isAmbiguous(12, 1));   // 1 m and 46 degrees
+  EXPECT_FALSE(gt.isAmbiguous(13, 1));  // 69 degrees: false
+  EXPECT_FALSE(gt.isAmbiguous(11, 3));  // 1.7 m: false
+  EXPECT_FALSE(gt.isAmbiguous(14, 9));  // within the gap's reach but 5 m: false
+  EXPECT_TRUE(gt.isLoop(14, 4));
+  // The two-band ground truth has no ambiguous pair.
+  EXPECT_FALSE(LoopGroundTruth::fromPoses(poses, 0.5, 30 * M_PI / 180, 5).isAmbiguous(11, 2));
+
+  // Detections: 11 -> 2 ambiguous (conf 0.9), 12 -> 1 ambiguous (0.8), 13 -> 1 false (0.3),
+  // 14 -> 4 true (0.6).
+  const std::vector<LoopDetection> detections = {{11, 2, 0.9}, {12, 1, 0.8}, {13, 1, 0.3}, {14, 4, 0.6}};
+  const rtabmap::LoopClosurePR at0 = rtabmap::computeLoopClosurePR(detections, gt, 0.0);
+  EXPECT_EQ(at0.truePositives, 1u);
+  EXPECT_EQ(at0.falsePositives, 1u);
+  EXPECT_EQ(at0.ambiguous, 2u);
+  EXPECT_DOUBLE_EQ(at0.precision, 0.5);
+  EXPECT_EQ(at0.positives, 2u);  // images 11 and 14 have a loop with an earlier one
+  EXPECT_DOUBLE_EQ(at0.recall, 0.5);
+  // Above the false detection's confidence, precision is 100% although two ambiguous ones are
+  // accepted before the true one.
+  EXPECT_DOUBLE_EQ(at0.recallAt100Precision, 0.5);
+  EXPECT_DOUBLE_EQ(at0.thresholdAt100Precision, 0.6);
+  const rtabmap::LoopClosurePR at07 = rtabmap::computeLoopClosurePR(detections, gt, 0.7);
+  EXPECT_EQ(at07.ambiguous, 2u);
+  EXPECT_EQ(at07.truePositives + at07.falsePositives, 0u);
+  // A band narrower than the loop distance is refused.
+  EXPECT_THROW(LoopGroundTruth::fromPoses(poses, 0.5, 0.0, 5, 0.4, 0.0), FormatError);
+}
+
 TEST(LoopClosurePR, MalformedDetections) {
   TempDir dir;
   writeText(dir.file("dup.txt"), "1 0 0\n2 1 0.5\n2 1 0.7\n");

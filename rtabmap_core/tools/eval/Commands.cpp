@@ -359,6 +359,12 @@ int pr(int argc, char** argv) {
   cli.addOption("distance", "METRES", "Poses ground truth: largest distance between two views of a place.", "2.0");
   cli.addOption("angle", "DEGREES", "Poses ground truth: largest orientation difference (0 = ignore).", "30");
   cli.addOption("min-gap", "N", "Poses ground truth: smallest id difference of a loop (excludes neighbours).", "10");
+  cli.addOption("ambiguous-distance", "METRES",
+                "Poses ground truth: pairs that are not loops but within this distance (and --ambiguous-angle) "
+                "are neither true nor false: views that may overlap (0 = no such band).",
+                "0");
+  cli.addOption("ambiguous-angle", "DEGREES", "Poses ground truth: largest orientation difference of the ambiguous "
+                "band (0 = ignore).", "0");
   cli.addOption("threshold", "C", "Confidence threshold for the precision and recall line.", "0");
   cli.addOption("curve", "FILE", "Write the precision-recall curve there (`threshold precision recall tp fp`).");
   cli.addNote("A detection of query q is accepted when matched_id != 0 and confidence >= threshold; it is "
@@ -381,8 +387,14 @@ int pr(int argc, char** argv) {
       throw UsageError(std::string("--format: ") + e.what());
     }
     Trajectory t = readTrajectory(gtPath, format);
-    gt = LoopGroundTruth::fromPoses(t.transforms(), positiveOption(cli, "distance", true),
-                                    positiveOption(cli, "angle", true) * M_PI / 180.0, cli.optionInt("min-gap"));
+    try {
+      gt = LoopGroundTruth::fromPoses(t.transforms(), positiveOption(cli, "distance", true),
+                                      positiveOption(cli, "angle", true) * M_PI / 180.0, cli.optionInt("min-gap"),
+                                      positiveOption(cli, "ambiguous-distance", true),
+                                      positiveOption(cli, "ambiguous-angle", true) * M_PI / 180.0);
+    } catch (const FormatError& e) {
+      throw UsageError(std::string("--ambiguous-distance: ") + e.what());
+    }
   } else {
     throw UsageError("--gt-type must be matrix, poses or auto, got " + type);
   }
@@ -406,7 +418,9 @@ int pr(int argc, char** argv) {
   std::cout << "\n";
   std::cout << "at threshold " << r.threshold << ": precision " << fixed(100.0 * r.precision, 2) << " %, recall "
             << fixed(100.0 * r.recall, 2) << " % (TP " << r.truePositives << ", FP " << r.falsePositives
-            << ", FN " << r.falseNegatives << ")\n";
+            << ", FN " << r.falseNegatives;
+  if (r.ambiguous) std::cout << "; " << r.ambiguous << " in the ambiguous band, neither";
+  std::cout << ")\n";
   std::cout << "recall at 100% precision: " << fixed(100.0 * r.recallAt100Precision, 2) << " %";
   if (any100) std::cout << " (threshold " << r.thresholdAt100Precision << ")";
   std::cout << "\n";
@@ -424,6 +438,7 @@ int pr(int argc, char** argv) {
                    {"true_positives", r.truePositives},
                    {"false_positives", r.falsePositives},
                    {"false_negatives", r.falseNegatives},
+                   {"ambiguous", r.ambiguous},
                    {"precision", r.precision},
                    {"recall", r.recall},
                    {"recall_at_100_precision", r.recallAt100Precision},

@@ -18,6 +18,9 @@
 //    ignored.
 //  - or ground-truth poses, one per image in image order: images i and j close a loop when
 //    their poses are at most maxDistance metres and maxAngle apart and |i - j| >= minFrameGap.
+//    Optionally a third band: pairs that are not loops but within ambiguousDistance and
+//    ambiguousAngle are neither (the views may well overlap, as the 7-Scenes bands of the
+//    loop-closure issue say): accepting one counts neither as a true nor as a false positive.
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -47,10 +50,17 @@ class LoopGroundTruth {
   // maxAngle in radians (<= 0: orientation ignored); null poses close no loop.
   static LoopGroundTruth fromPoses(const std::vector<Transform>& poses, double maxDistance,
                                    double maxAngle, int minFrameGap);
+  // With the ambiguous band: ambiguousDistance >= maxDistance (0 = no band), ambiguousAngle in
+  // radians (<= 0: orientation ignored by the band).
+  static LoopGroundTruth fromPoses(const std::vector<Transform>& poses, double maxDistance,
+                                   double maxAngle, int minFrameGap, double ambiguousDistance,
+                                   double ambiguousAngle);
 
   int size() const { return size_; }
   // Images a and b (1-based) show the same place; false for ids outside [1, size()] or a == b.
   bool isLoop(int a, int b) const;
+  // Images a and b are in the ambiguous band: neither a loop nor a false match.
+  bool isAmbiguous(int a, int b) const;
   // Image `id` closes a loop with an earlier image (one with a smaller id).
   bool hasLoopWithEarlier(int id) const;
   // Number of images that close a loop with an earlier image: the positives of recall.
@@ -61,7 +71,8 @@ class LoopGroundTruth {
   void finish();               // sorts and deduplicates
 
   int size_ = 0;
-  std::vector<std::vector<int>> loops_;  // per image (index id - 1): sorted ids it loops with
+  std::vector<std::vector<int>> loops_;      // per image (index id - 1): sorted ids it loops with
+  std::vector<std::vector<int>> ambiguous_;  // per image: sorted ids in the ambiguous band (or empty)
 };
 
 struct PrecisionRecallPoint {
@@ -77,6 +88,7 @@ struct LoopClosurePR {
   size_t positives = 0;   // images closing a loop with an earlier image (ground truth)
   size_t detections = 0;  // queries with a match (matched_id != 0)
   size_t ignored = 0;     // detections whose ids are outside the ground truth
+  size_t ambiguous = 0;   // accepted at the threshold, in the ground truth's ambiguous band
   // At the given threshold:
   double threshold = 0.0;
   size_t truePositives = 0;   // accepted, and a true loop
@@ -90,7 +102,8 @@ struct LoopClosurePR {
   std::vector<PrecisionRecallPoint> curve;
 };
 // A detection of query q is accepted when matched != 0 and confidence >= threshold; it is a
-// true positive when isLoop(q, matched). Recall = true positives / positives.
+// true positive when isLoop(q, matched), neither when isAmbiguous(q, matched), else a false
+// positive. Recall = true positives / positives.
 LoopClosurePR computeLoopClosurePR(const std::vector<LoopDetection>& detections,
                                    const LoopGroundTruth& groundTruth, double threshold = 0.0);
 
