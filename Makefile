@@ -64,11 +64,14 @@ test-draws: build
 demo: build
 	@$(IN_WS) $(ROOT)/tools/build/run-demo.sh $(WS) $(DEMO_ARGS)
 
-# The sanitizer runs (issue 10) are too long for make test's budget: make bench runs them after
-# the benchmarks (BENCH_SANITIZERS=0 skips them).
+# The sanitizer runs and the other draws of the synthetic scenes (issue 10) are too long for make
+# test's budget: make bench runs them after the benchmarks (BENCH_SANITIZERS=0, BENCH_DRAWS=0
+# skip them).
 BENCH_SANITIZERS ?= 1
+BENCH_DRAWS ?= 1
 bench: build
 	@$(ROOT)/tools/build/run-bench.sh $(BUILD)/bin
+	@if [ "$(BENCH_DRAWS)" = 1 ]; then $(MAKE) --no-print-directory test-draws; fi
 	@if [ "$(BENCH_SANITIZERS)" = 1 ]; then $(MAKE) --no-print-directory test-asan test-tsan; fi
 
 soak: build
