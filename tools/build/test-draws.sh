@@ -14,10 +14,16 @@ declare -A failedDraws=()
 failures=0
 for ((d = 1; d <= draws; ++d)); do
   for s in "${suites[@]}"; do
+    out="$(RTABMAP_TEST_DRAW=$d "$dir/$s" --gtest_brief=1 2>&1)"
+    rc=$?
+    names="$(sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_/]*\.[A-Za-z0-9_/]*\).*/\1/p' <<<"$out" | sort -u)"
+    # A crash or an abort prints no FAILED line: the suite itself is then what failed.
+    [[ $rc -ne 0 && -z "$names" ]] && names="$s (exit $rc, no test reported)"
     while read -r name; do
+      [[ -n "$name" ]] || continue
       failedDraws[$name]+=" $d"
       failures=$((failures + 1))
-    done < <(RTABMAP_TEST_DRAW=$d "$dir/$s" --gtest_brief=1 2>&1 | sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_/]*\.[A-Za-z0-9_/]*\).*/\1/p' | sort -u)
+    done <<<"$names"
   done
   echo "draw $d of $draws done"
 done
