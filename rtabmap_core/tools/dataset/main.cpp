@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
     cli.addOption("rate", "HZ", "Frame rate for layouts without stamps (0 = the layout's default).", "0");
     cli.addOption("gt", "FILE", "Ground-truth trajectory overriding the dataset's own.");
     cli.addOption("calibration", "FILE", "Camera calibration overriding the dataset's own.");
+    cli.addFlag("register-depth", "7scenes: register each depth image to the colour camera (published Kinect "
+                                  "calibration, colour f = 525 or --calibration's) instead of using it as recorded.");
     cli.addFlag("guess-odom", "Use the dataset's wheel odometry (motion since the previous frame) as the "
                               "odometry's motion guess instead of the constant-velocity model.");
     cli.addOption("ate-frame", "FRAME",
@@ -118,6 +120,7 @@ int main(int argc, char** argv) {
     options.reader.frameRate = cli.optionDouble("rate");
     if (cli.has("gt")) options.reader.groundTruthPath = cli.option("gt");
     if (cli.has("calibration")) options.reader.calibrationPath = cli.option("calibration");
+    options.reader.registerDepth = cli.flag("register-depth");
     options.reader.imu = false;
     options.wheelOdometryGuess = cli.flag("guess-odom");
     if (cli.has("frames-csv")) options.framesCsv = cli.option("frames-csv");

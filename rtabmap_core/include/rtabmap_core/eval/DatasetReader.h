@@ -52,8 +52,15 @@ struct DatasetReaderOptions {
   // 30 Hz), "images" (default 1 Hz), "kitti" without times.txt (default 10 Hz). 0 = default.
   double frameRate = 0.0;
   // Camera calibration overriding the layout's own: a ROS camera_info YAML for "tum", "7scenes"
-  // and "images"; a KITTI calib.txt for "kitti".
+  // (the colour camera's) and "images"; a KITTI calib.txt for "kitti".
   std::string calibrationPath;
+  // "7scenes": the depth images were recorded in the Kinect's depth camera, not registered to
+  // the colour images. false (default): used as recorded, with the dataset's (depth camera's)
+  // intrinsics for both images, the colour pixels then taking the depth of a point up to ~15 px
+  // away. true: each one is registered to the colour camera when it is read, with the published
+  // calibration or calibrationPath's colour model (see SevenScenesReader.cpp for why it is not
+  // the default).
+  bool registerDepth = false;
   // "carmen": readings at or beyond this range (metres) are no-returns. 0 = from the log: a
   // PARAM naming a laser max range, else the sensor's saturation value found in the data (see
   // CarmenReader.cpp), capped at 80 m.
