@@ -129,14 +129,33 @@ LoopGroundTruth LoopGroundTruth::readMatrix(const std::string& path) {
 
 LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, double maxDistance,
                                            double maxAngle, int minFrameGap) {
-  return fromPoses(poses, maxDistance, maxAngle, minFrameGap, 0.0, 0.0);
+  PoseCriteria criteria;
+  criteria.maxDistance = maxDistance;
+  criteria.maxAngle = maxAngle;
+  criteria.minFrameGap = minFrameGap;
+  return fromPoses(poses, criteria);
 }
 
-LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, double maxDistance,
-                                           double maxAngle, int minFrameGap, double ambiguousDistance,
-                                           double ambiguousAngle) {
+namespace {
+
+// The angle that PoseCriteria compares between poses a and b (radians).
+double poseAngle(const Transform& a, const Transform& b, const LoopGroundTruth::PoseCriteria& criteria) {
+  if (!criteria.viewingDirectionOnly) return (a.inverse() * b).getAngle();
+  const Eigen::Vector3d da = a.rotationMatrix() * criteria.viewingAxis;
+  const Eigen::Vector3d db = b.rotationMatrix() * criteria.viewingAxis;
+  return std::acos(std::clamp(da.dot(db) / (da.norm() * db.norm()), -1.0, 1.0));
+}
+
+}  // namespace
+
+LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, const PoseCriteria& criteria) {
+  const double maxDistance = criteria.maxDistance;
+  const double ambiguousDistance = criteria.ambiguousDistance;
   if (!(maxDistance >= 0.0)) throw FormatError("loop ground truth: the distance threshold must be >= 0");
   if (!(ambiguousDistance >= 0.0)) throw FormatError("loop ground truth: the ambiguous distance must be >= 0");
+  if (criteria.viewingDirectionOnly && !(criteria.viewingAxis.norm() > 0.0)) {
+    throw FormatError("loop ground truth: the viewing axis must not be zero");
+  }
   const bool band = ambiguousDistance > 0.0;
   if (band && ambiguousDistance < maxDistance) {
     throw FormatError("loop ground truth: the ambiguous band (" + std::to_string(ambiguousDistance) +
@@ -148,7 +167,7 @@ LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, 
   if (band) gt.ambiguous_.assign(poses.size(), {});
   const double maxSq = maxDistance * maxDistance;
   const double bandSq = ambiguousDistance * ambiguousDistance;
-  const size_t gap = static_cast<size_t>(std::max(1, minFrameGap));
+  const size_t gap = static_cast<size_t>(std::max(1, criteria.minFrameGap));
   for (size_t i = 0; i < poses.size(); ++i) {
     if (poses[i].isNull()) continue;
     const Eigen::Vector3d pi = poses[i].translation();
@@ -156,11 +175,11 @@ LoopGroundTruth LoopGroundTruth::fromPoses(const std::vector<Transform>& poses, 
       if (poses[j].isNull()) continue;
       const double sq = (poses[j].translation() - pi).squaredNorm();
       if (sq > std::max(maxSq, band ? bandSq : 0.0)) continue;
-      const double angle = (poses[i].inverse() * poses[j]).getAngle();
+      const double angle = poseAngle(poses[i], poses[j], criteria);
       const int a = static_cast<int>(i) + 1, b = static_cast<int>(j) + 1;
-      if (sq <= maxSq && (maxAngle <= 0.0 || angle <= maxAngle)) {
+      if (sq <= maxSq && (criteria.maxAngle <= 0.0 || angle <= criteria.maxAngle)) {
         gt.addLoop(a, b);
-      } else if (band && (ambiguousAngle <= 0.0 || angle <= ambiguousAngle)) {
+      } else if (band && (criteria.ambiguousAngle <= 0.0 || angle <= criteria.ambiguousAngle)) {
         gt.ambiguous_[i].push_back(b);
         gt.ambiguous_[j].push_back(a);
       }

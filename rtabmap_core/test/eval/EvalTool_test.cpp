@@ -148,6 +148,21 @@ TEST(EvalTool, RelationsAndPr) {
   EXPECT_DOUBLE_EQ(r.last["precision"].get<double>(), 1.0);
   EXPECT_NE(r.out.find("1 in the ambiguous band"), std::string::npos) << r.out;
   EXPECT_EQ(run(poses + " --ambiguous-distance 0.3").exitCode, 2);  // narrower than the loop
+
+  // --viewing-direction: image 3 rolled 90 degrees about its x axis (the viewing direction) is a
+  // loop with image 1 only when the roll does not count.
+  writeText(dir.file("rolled.txt"),
+            "1 0 0 0 0 0 0 1\n2 5 0 0 0 0 0 1\n3 0.2 0 0 0.7071067811865476 0 0 0.7071067811865476\n");
+  writeText(dir.file("d3.txt"), "3 1 0.9\n");
+  const std::string rolled = "pr --gt " + dir.file("rolled.txt") + " --detections " + dir.file("d3.txt") +
+                             " --gt-type poses --format tum --distance 0.5 --angle 30 --min-gap 1 --json";
+  r = run(rolled);
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  EXPECT_EQ(r.last["false_positives"], 1);
+  r = run(rolled + " --viewing-direction");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  EXPECT_EQ(r.last["true_positives"], 1);
+  EXPECT_EQ(r.last["false_positives"], 0);
 }
 
 TEST(EvalTool, AcesOdometryThroughTheTool) {

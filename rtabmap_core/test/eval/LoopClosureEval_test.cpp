@@ -139,7 +139,13 @@ TEST(LoopClosurePR, AmbiguousBandIsNeitherTrueNorFalse) {
   poses.push_back(Transform(1.0, 0, 0.8));  // 12: 1 m from image 1, 46 degrees off
   poses.push_back(Transform(1.0, 0, 1.2));  // 13: 1 m from image 1, 69 degrees off
   poses.push_back(Transform(3.0, 0, 0.0));  // 14: same place as image 4
-  const LoopGroundTruth gt = LoopGroundTruth::fromPoses(poses, 0.5, 30 * M_PI / 180, 5, 1.5, 60 * M_PI / 180);
+  LoopGroundTruth::PoseCriteria criteria;
+  criteria.maxDistance = 0.5;
+  criteria.maxAngle = 30 * M_PI / 180;
+  criteria.minFrameGap = 5;
+  criteria.ambiguousDistance = 1.5;
+  criteria.ambiguousAngle = 60 * M_PI / 180;
+  const LoopGroundTruth gt = LoopGroundTruth::fromPoses(poses, criteria);
   EXPECT_TRUE(gt.isLoop(11, 1));
   EXPECT_FALSE(gt.isAmbiguous(11, 1));  // a loop is not also ambiguous
   EXPECT_TRUE(gt.isAmbiguous(11, 2));   // 0.7 m
@@ -170,7 +176,39 @@ TEST(LoopClosurePR, AmbiguousBandIsNeitherTrueNorFalse) {
   EXPECT_EQ(at07.ambiguous, 2u);
   EXPECT_EQ(at07.truePositives + at07.falsePositives, 0u);
   // A band narrower than the loop distance is refused.
-  EXPECT_THROW(LoopGroundTruth::fromPoses(poses, 0.5, 0.0, 5, 0.4, 0.0), FormatError);
+  criteria.ambiguousDistance = 0.4;
+  EXPECT_THROW(LoopGroundTruth::fromPoses(poses, criteria), FormatError);
+}
+
+// A hand-held camera rolled about its optical axis sees the same place: with
+// viewingDirectionOnly the angle is the one between the viewing directions, so a roll does not
+// count and a turn does.
+TEST(LoopClosurePR, ViewingDirectionIgnoresRollAboutTheViewingAxis) {
+  using rtabmap::LoopGroundTruth;
+  using rtabmap::Transform;
+  std::vector<Transform> poses;
+  for (int i = 0; i < 5; ++i) poses.push_back(Transform(i, 0, 0, 0, 0, 0));  // 1..5 along x, facing +x
+  poses.push_back(Transform(0.1, 0, 0, M_PI / 2, 0, 0));                     // 6: at 1, rolled 90 degrees
+  poses.push_back(Transform(0.1, 0, 0, 0, 0, M_PI / 4));                     // 7: at 1, turned 45 degrees
+  poses.push_back(Transform(0.1, 0, 0, 0, M_PI / 9, 0));                     // 8: at 1, pitched 20 degrees
+  LoopGroundTruth::PoseCriteria criteria;
+  criteria.maxDistance = 0.3;
+  criteria.maxAngle = 30 * M_PI / 180;
+  criteria.minFrameGap = 3;
+  const LoopGroundTruth whole = LoopGroundTruth::fromPoses(poses, criteria);
+  EXPECT_FALSE(whole.isLoop(6, 1));  // a 90-degree relative rotation
+  EXPECT_FALSE(whole.isLoop(7, 1));
+  EXPECT_TRUE(whole.isLoop(8, 1));
+  criteria.viewingDirectionOnly = true;
+  const LoopGroundTruth viewing = LoopGroundTruth::fromPoses(poses, criteria);
+  EXPECT_TRUE(viewing.isLoop(6, 1));   // same viewing direction
+  EXPECT_FALSE(viewing.isLoop(7, 1));  // 45 degrees apart
+  EXPECT_TRUE(viewing.isLoop(8, 1));   // 20 degrees apart
+  // Another axis: along y, the roll of image 6 turns its y axis by 90 degrees.
+  criteria.viewingAxis = Eigen::Vector3d::UnitY();
+  EXPECT_FALSE(LoopGroundTruth::fromPoses(poses, criteria).isLoop(6, 1));
+  criteria.viewingAxis = Eigen::Vector3d::Zero();
+  EXPECT_THROW(LoopGroundTruth::fromPoses(poses, criteria), rtabmap::FormatError);
 }
 
 TEST(LoopClosurePR, MalformedDetections) {

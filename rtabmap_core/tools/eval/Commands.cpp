@@ -365,6 +365,9 @@ int pr(int argc, char** argv) {
                 "0");
   cli.addOption("ambiguous-angle", "DEGREES", "Poses ground truth: largest orientation difference of the ambiguous "
                 "band (0 = ignore).", "0");
+  cli.addFlag("viewing-direction", "Poses ground truth: the angles are between the poses' viewing directions "
+                                   "(their x axes; a camera rolled about its optical axis still sees the place) "
+                                   "instead of their whole relative rotation.");
   cli.addOption("threshold", "C", "Confidence threshold for the precision and recall line.", "0");
   cli.addOption("curve", "FILE", "Write the precision-recall curve there (`threshold precision recall tp fp`).");
   cli.addNote("A detection of query q is accepted when matched_id != 0 and confidence >= threshold; it is "
@@ -388,10 +391,14 @@ int pr(int argc, char** argv) {
     }
     Trajectory t = readTrajectory(gtPath, format);
     try {
-      gt = LoopGroundTruth::fromPoses(t.transforms(), positiveOption(cli, "distance", true),
-                                      positiveOption(cli, "angle", true) * M_PI / 180.0, cli.optionInt("min-gap"),
-                                      positiveOption(cli, "ambiguous-distance", true),
-                                      positiveOption(cli, "ambiguous-angle", true) * M_PI / 180.0);
+      LoopGroundTruth::PoseCriteria criteria;
+      criteria.maxDistance = positiveOption(cli, "distance", true);
+      criteria.maxAngle = positiveOption(cli, "angle", true) * M_PI / 180.0;
+      criteria.minFrameGap = cli.optionInt("min-gap");
+      criteria.ambiguousDistance = positiveOption(cli, "ambiguous-distance", true);
+      criteria.ambiguousAngle = positiveOption(cli, "ambiguous-angle", true) * M_PI / 180.0;
+      criteria.viewingDirectionOnly = cli.flag("viewing-direction");
+      gt = LoopGroundTruth::fromPoses(t.transforms(), criteria);
     } catch (const FormatError& e) {
       throw UsageError(std::string("--ambiguous-distance: ") + e.what());
     }

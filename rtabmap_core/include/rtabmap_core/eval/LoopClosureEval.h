@@ -47,14 +47,28 @@ class LoopGroundTruth {
   static LoopGroundTruth fromMatrix(const cv::Mat& matrix);
   // Image file (extension png, bmp, pgm, ppm, jpg, jpeg, tif, tiff) or text matrix.
   static LoopGroundTruth readMatrix(const std::string& path);
-  // maxAngle in radians (<= 0: orientation ignored); null poses close no loop.
+  // How fromPoses decides that two images show the same place. Distances in metres, angles in
+  // radians; an angle <= 0 leaves orientation out of that band.
+  struct PoseCriteria {
+    double maxDistance = 0.0;  // a loop: camera centres within this distance ...
+    double maxAngle = 0.0;     // ... and within this angle,
+    int minFrameGap = 1;       // ... images at least this many apart in the sequence.
+    // Not a loop, but within ambiguousDistance (>= maxDistance; 0 = no band) and ambiguousAngle:
+    // neither true nor false.
+    double ambiguousDistance = 0.0;
+    double ambiguousAngle = 0.0;
+    // The angle between two poses: their whole relative rotation (false), or the angle between
+    // their viewing directions, `viewingAxis` of each pose (true): a hand-held camera rolled
+    // about its optical axis still sees the same place. UnitX: the base frame's forward axis
+    // (ROS body axes), which the readers put along the camera's optical axis.
+    bool viewingDirectionOnly = false;
+    Eigen::Vector3d viewingAxis = Eigen::Vector3d::UnitX();
+  };
+  // Null poses close no loop. FormatError when the ambiguous band is narrower than the loop's.
+  static LoopGroundTruth fromPoses(const std::vector<Transform>& poses, const PoseCriteria& criteria);
+  // A loop within maxDistance and maxAngle (whole relative rotation), no ambiguous band.
   static LoopGroundTruth fromPoses(const std::vector<Transform>& poses, double maxDistance,
                                    double maxAngle, int minFrameGap);
-  // With the ambiguous band: ambiguousDistance >= maxDistance (0 = no band), ambiguousAngle in
-  // radians (<= 0: orientation ignored by the band).
-  static LoopGroundTruth fromPoses(const std::vector<Transform>& poses, double maxDistance,
-                                   double maxAngle, int minFrameGap, double ambiguousDistance,
-                                   double ambiguousAngle);
 
   int size() const { return size_; }
   // Images a and b (1-based) show the same place; false for ids outside [1, size()] or a == b.
