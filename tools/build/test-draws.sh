@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the core suites built on synthetic scenes (the rendered room, the square-loop graphs, the
-# bundle-adjustment scene) over other random draws of those scenes: RTABMAP_TEST_DRAW=1..N moves
+# bundle-adjustment scene, the registration tests' point sets, the lidar odometry's range noise)
+# over other random draws of those scenes: RTABMAP_TEST_DRAW=1..N moves
 # every such seed (test::drawSeed). make test runs draw 0 only; a bound that was fitted to that
 # one draw, rather than to what the method guarantees, fails here on some other draw.
 # Usage: test-draws.sh TEST_BIN_DIR [DRAWS]   (DRAWS defaults to 20; about 20 s per draw)

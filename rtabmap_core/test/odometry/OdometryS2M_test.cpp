@@ -39,11 +39,12 @@ struct OdometryRun {
   std::vector<OdometryInfo> infos;
 };
 
-// Runs odometry over scans seen from `truth` (1 cm range noise), with the wheel increments of
-// `wheel` as guesses when given.
+// Runs odometry over scans seen from `truth` (1 cm range noise drawn from `seed`), with the
+// wheel increments of `wheel` as guesses when given.
 OdometryRun runOdometry(Odometry& odom, const test::World2D& world, const std::vector<Transform>& truth,
-                const std::vector<Transform>* wheel, const test::Lidar2D& lidar = {}) {
-  std::mt19937 rng(42);
+                const std::vector<Transform>* wheel, const test::Lidar2D& lidar = {},
+                unsigned seed = rtabmap::test::drawSeed(42)) {
+  std::mt19937 rng(seed);
   test::Lidar2D noisy = lidar;
   noisy.noise = 0.01;
   odom.reset(truth.front());
@@ -109,7 +110,14 @@ TEST(OdometryS2M, CorridorTakesTravelFromWheelsAndLateralFromWalls) {
   test::Lidar2D lidar;
   lidar.rangeMax = 8.0;
   OdometryS2M odom(lidar2DParams());
-  const OdometryRun run = runOdometry(odom, test::corridorWorld(), truth, &wheel, lidar);
+  // One fixed noise draw, not test::drawSeed: on 2 of 20 other draws (RTABMAP_TEST_DRAW 2 and 4)
+  // the travel ends 9-10 cm short of the wheels'. Known weakness, kept visible here: ICP slides
+  // freely along a featureless corridor, a slide beyond Icp/MaxTranslation loses the frame (at
+  // 5.1 m; on this draw too, harmlessly), and when the next frame's guided attempt fails as well
+  // its retry without the guess keeps no travel for that step. Checking Icp/MaxTranslation after
+  // dropping the slide fixes this corridor but costs the ACES S2M run (relation error 0.17 ->
+  // 0.28-0.42 m): the rejection protects real corridors. See the team notes of issue 5.
+  const OdometryRun run = runOdometry(odom, test::corridorWorld(), truth, &wheel, lidar, 42);
   ASSERT_FALSE(run.poses.back().isNull()) << run.infos.back().lostReason;
   EXPECT_LT(run.infos.back().reg.icpStructuralComplexity, 0.02);
   // Travel: the wheels' (8 % long), not the truth, not zero.
@@ -135,7 +143,7 @@ TEST(OdometryS2M, BadScansAreLostWithReasonThenRecover) {
       LaserScan::fromRanges(std::vector<float>(360, nan), -M_PI, M_PI / 180, 0.1, 30),  // all NaN
   };
   const std::vector<std::string> reasons = {"no laser scan", "has 1 point", "scan 'new' is empty"};
-  std::mt19937 rng(1);
+  std::mt19937 rng(rtabmap::test::drawSeed(1));
   for (size_t i = 0; i < truth.size(); ++i) {
     const bool blank = i >= 10 && i < 10 + bad.size();
     SensorData data(blank ? bad[i - 10] : castScan2D(world, truth[i], {}, &rng), static_cast<int>(i) + 1, 0.1 * (i + 1));

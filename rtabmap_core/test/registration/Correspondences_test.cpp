@@ -7,6 +7,7 @@
 #include <random>
 
 #include "odometry/SyntheticRoom.h"
+#include "common/TestData.h"
 #include "rtabmap_core/features/FeatureDetector.h"
 #include "rtabmap_core/registration/Correspondences.h"
 
@@ -15,7 +16,7 @@ namespace {
 
 // n random descriptors, and a noisy copy of them in shuffled order; returns the permutation.
 std::vector<int> descriptorPair(bool binary, int n, cv::Mat& from, cv::Mat& to) {
-  cv::RNG rng(42);
+  cv::RNG rng(rtabmap::test::drawSeed(42));
   from.create(n, binary ? 32 : 64, binary ? CV_8U : CV_32F);
   if (binary) {
     rng.fill(from, cv::RNG::UNIFORM, 0, 256);
@@ -24,7 +25,7 @@ std::vector<int> descriptorPair(bool binary, int n, cv::Mat& from, cv::Mat& to) 
   }
   std::vector<int> perm(static_cast<size_t>(n));
   std::iota(perm.begin(), perm.end(), 0);
-  std::shuffle(perm.begin(), perm.end(), std::mt19937(1));
+  std::shuffle(perm.begin(), perm.end(), std::mt19937(rtabmap::test::drawSeed(1)));
   to.create(n, from.cols, from.type());
   for (int i = 0; i < n; ++i) {
     from.row(perm[static_cast<size_t>(i)]).copyTo(to.row(i));

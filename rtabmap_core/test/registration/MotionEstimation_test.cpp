@@ -67,7 +67,7 @@ TEST(MotionEstimation, PnPRefusesAPoseThatPutsThePointsBehindTheCamera) {
 }
 
 TEST(MotionEstimation, PnPRansacRecoversTransformWith30PercentOutliers) {
-  std::mt19937 rng(7);
+  std::mt19937 rng(rtabmap::test::drawSeed(7));
   const Transform motion(0.15, -0.05, 0.02, 0.02, -0.03, 0.12);
   std::vector<cv::Point3f> object;
   std::vector<cv::Point2f> image;
@@ -107,7 +107,7 @@ TEST(MotionEstimation, PnPRansacRecoversTransformWith30PercentOutliers) {
 }
 
 TEST(MotionEstimation, RigidRansacRecoversTransformWith30PercentOutliers) {
-  std::mt19937 rng(11);
+  std::mt19937 rng(rtabmap::test::drawSeed(11));
   const Transform motion(0.3, 0.1, -0.05, 0.05, 0.02, -0.2);
   std::vector<cv::Point3f> reference = scenePoints(300, rng), moved;
   std::normal_distribution<float> noise(0.0f, 0.005f);
@@ -132,7 +132,7 @@ TEST(MotionEstimation, RigidRansacRecoversTransformWith30PercentOutliers) {
 }
 
 TEST(MotionEstimation, RejectionsSayWhy) {
-  std::mt19937 rng(3);
+  std::mt19937 rng(rtabmap::test::drawSeed(3));
   std::vector<cv::Point3f> object = scenePoints(10, rng);
   std::vector<cv::Point2f> image(10, cv::Point2f(100, 100));
   MotionEstimate e = estimateMotion3DTo2D(object, image, kCamera, PnPOptions());
@@ -163,7 +163,7 @@ TEST(MotionEstimation, RigidTransformNeedsNonCollinearPoints) {
 }
 
 TEST(MotionEstimation, CovarianceFollowsTheNoise) {
-  std::mt19937 rng(5);
+  std::mt19937 rng(rtabmap::test::drawSeed(5));
   const Transform motion(0.1, 0, 0, 0, 0, 0.1);
   std::vector<cv::Point3f> reference = scenePoints(500, rng);
   std::vector<int> inliers;
