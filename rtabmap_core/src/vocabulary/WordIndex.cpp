@@ -2,6 +2,8 @@
 
 #include <flann/flann.hpp>
 
+#include "ReproducibleKdTree.h"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -44,8 +46,9 @@ cv::Mat toIndexRows(const cv::Mat& descriptors, Encoding encoding) {
 }
 
 // FLANN keeps pointers to the rows it indexes: every batch lives in `chunks_` until the next
-// rebuild, which copies the surviving words into one new chunk.
-template <class Distance>
+// rebuild, which copies the surviving words into one new chunk. FlannType is flann::Index (LSH,
+// linear) or flann::KDTreeIndex itself (kd-trees over the reproducible distances).
+template <class Distance, class FlannType = flann::Index<Distance>>
 class FlannIndex : public Vocabulary::Index {
   using T = typename Distance::ElementType;
 
@@ -72,7 +75,7 @@ class FlannIndex : public Vocabulary::Index {
     index_.reset();
     if (wordIds.empty()) return;
     flann::Matrix<T> rows = store(descriptors, wordIds);
-    index_ = std::make_unique<flann::Index<Distance>>(rows, params_);
+    index_ = std::make_unique<FlannType>(rows, params_);
     index_->buildIndex();
     builtSize_ = wordIds.size();
   }
@@ -133,7 +136,7 @@ class FlannIndex : public Vocabulary::Index {
   bool squared_;
   Encoding encoding_;
   float distanceScale_;
-  std::unique_ptr<flann::Index<Distance>> index_;
+  std::unique_ptr<FlannType> index_;
   std::vector<cv::Mat> chunks_;
   std::vector<int> wordOfPoint_;                  // FLANN point id -> word id (0 = removed)
   std::unordered_map<int, size_t> pointOfWord_;   // word id -> FLANN point id
@@ -163,14 +166,15 @@ std::unique_ptr<Vocabulary::Index> Vocabulary::Index::create(const VocabularyOpt
   // expanded per bit, whose squared L2 is exactly (a multiple of) their Hamming distance, the
   // distance the ratio test must use for them (as the linear and LSH indexes and the in-image
   // matching do).
+  // The trees are built reproducibly (ReproducibleKdTree.h): same words, same trees, same answers.
+  using BytesTree = FlannIndex<ReproducibleL2Bytes, flann::KDTreeIndex<ReproducibleL2Bytes>>;
+  using FloatsTree = FlannIndex<ReproducibleL2Floats, flann::KDTreeIndex<ReproducibleL2Floats>>;
   if (binary && !options.byteToFloat) {
-    return std::make_unique<FlannIndex<flann::L2<unsigned char>>>(flann::KDTreeIndexParams(options.kdTrees),
-                                                                  options.searchChecks, false,
-                                                                  Encoding::kBitsAsBytes, kBitDistanceScale);
+    return std::make_unique<BytesTree>(flann::KDTreeIndexParams(options.kdTrees), options.searchChecks, false,
+                                       Encoding::kBitsAsBytes, kBitDistanceScale);
   }
-  return std::make_unique<FlannIndex<flann::L2<float>>>(flann::KDTreeIndexParams(options.kdTrees),
-                                                        options.searchChecks, true,
-                                                        binary ? Encoding::kBytesAsFloats : Encoding::kAsIs);
+  return std::make_unique<FloatsTree>(flann::KDTreeIndexParams(options.kdTrees), options.searchChecks, true,
+                                      binary ? Encoding::kBytesAsFloats : Encoding::kAsIs);
 }
 
 }  // namespace rtabmap::vocabulary

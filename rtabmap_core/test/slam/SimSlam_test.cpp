@@ -65,6 +65,35 @@ TEST(SimSlam, LoopClosesVisuallyThenLocalizesWithoutWriting) {
   EXPECT_FALSE(std::filesystem::exists(db + "-wal") && std::filesystem::file_size(db + "-wal") > 0);
 }
 
+// Reproducible runs: the same input and parameters give the same map, to the bit (the
+// vocabulary's kd-trees come from a fixed seed; nothing else may draw from the clock or
+// std::random_device). A user comparing two parameter sets, and every figure of the benches,
+// relies on it.
+TEST(SimSlam, TheSameRunTwiceGivesTheSameMap) {
+  REQUIRE_SIM(folder, "loop");
+  test::TempDir dir("rtabmap_slam_twice");
+  SimSlamRun first, second;
+  test::runSimSlam(folder, test::simSlamParameters(), dir.file("first.db"), first);
+  test::runSimSlam(folder, test::simSlamParameters(), dir.file("second.db"), second);
+  ASSERT_GE(first.summary.loopClosures, 5);
+  EXPECT_EQ(second.summary.loopClosures, first.summary.loopClosures);
+  EXPECT_EQ(second.summary.nodesAdded, first.summary.nodesAdded);
+  ASSERT_EQ(second.optimized.size(), first.optimized.size());
+  for (const auto& [id, pose] : first.optimized) {
+    auto it = second.optimized.find(id);
+    ASSERT_NE(it, second.optimized.end()) << "node " << id;
+    EXPECT_TRUE(it->second.toEigen().isApprox(pose.toEigen(), 0.0)) << "node " << id;
+  }
+  ASSERT_EQ(second.links.size(), first.links.size());
+  for (auto a = first.links.begin(), b = second.links.begin(); a != first.links.end(); ++a, ++b) {
+    EXPECT_EQ(a->second.from(), b->second.from());
+    EXPECT_EQ(a->second.to(), b->second.to());
+    EXPECT_EQ(a->second.type(), b->second.type());
+    EXPECT_TRUE(a->second.transform().toEigen().isApprox(b->second.transform().toEigen(), 0.0))
+        << a->second.from() << " -> " << a->second.to();
+  }
+}
+
 TEST(SimSlam, ReverseLapClosesWithLaserProximity) {
   REQUIRE_SIM(folder, "reverse");
   test::TempDir dir("rtabmap_slam_reverse");

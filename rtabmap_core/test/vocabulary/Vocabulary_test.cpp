@@ -151,6 +151,47 @@ TEST(Vocabulary, IncrementalIndexAnswersLikeARebuiltOne) {
   EXPECT_GE(matched, 100);
 }
 
+// The randomised kd-trees are built from a fixed seed (ReproducibleKdTree.h): two vocabularies
+// fed the same descriptors answer every approximate query alike, through rebuilds and
+// incremental insertion. Few checks, so the answers depend on the trees: a fair share of them
+// differ from brute force, and trees drawn at random (Debian FLANN's own build) disagree between
+// the two vocabularies.
+TEST(Vocabulary, KdTreesGiveTheSameWordsRunToRun) {
+  for (const int type : {CV_32F, CV_8U}) {
+    SCOPED_TRACE(type == CV_32F ? "float descriptors" : "binary descriptors");
+    VocabularyOptions o;
+    o.searchChecks = 4;
+    Vocabulary a(o), b(o);
+    for (int loc = 1; loc <= 20; ++loc) {
+      cv::Mat d = type == CV_32F ? randomFloat(150, 32, 300 + loc) : randomBinary(150, 32, 300 + loc);
+      a.quantize(d, loc);
+      b.quantize(d, loc);
+    }
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GE(a.summary().indexBuilds, 2);  // rebuilt at least once after the first build
+    // Queries near existing words (a few percent of noise, a few bits flipped).
+    cv::Mat queries = type == CV_32F ? randomFloat(600, 32, 77) : randomBinary(600, 32, 77);
+    cv::RNG rng(78);
+    for (int i = 0; i < queries.rows; ++i) {
+      cv::Mat q = a.word(1 + i * 4)->descriptor.clone();
+      if (type == CV_32F) {
+        q += randomFloat(1, 32, 9000 + i) * 0.15;
+      } else {
+        for (int flip = 0; flip < 6; ++flip) q.at<uchar>(0, rng.uniform(0, 32)) ^= 1 << rng.uniform(0, 8);
+      }
+      q.copyTo(queries.row(i));
+    }
+    const auto fa = a.findWords(queries), fb = b.findWords(queries);
+    int differFromExact = 0;
+    for (int i = 0; i < queries.rows; ++i) {
+      EXPECT_EQ(fa[i], fb[i]) << "query " << i;
+      differFromExact += fa[i] != bruteForceWord(a, queries.row(i), o.nndrRatio);
+    }
+    EXPECT_GE(differFromExact, 10) << "the search is exact here: the test would not see the trees";
+    EXPECT_LE(differFromExact, queries.rows / 2) << "trees far worse than FLANN's";
+  }
+}
+
 // The default index for binary descriptors (kd-trees over their bits), incremental, against
 // brute-force Hamming search: with unlimited checks it is exact, and distances are Hamming
 // counts, so the ratio test gives the same words. Queries are words with a few bits flipped

@@ -8,10 +8,9 @@
 // to it; otherwise it becomes a new word. Each word keeps the locations that contain it (the
 // inverted index behind the TF-IDF likelihood) and how many times each does.
 //
-// The nearest-neighbour index is FLANN (Kp/NNStrategy): randomised kd-trees (4) on float
-// descriptors (binary ones are expanded per bit, one byte a bit, or with Kp/ByteToFloat to one
-// float per byte),
-// LSH on binary descriptors with the Hamming distance, or linear search. New words are added to
+// The nearest-neighbour index is FLANN (Kp/NNStrategy): randomised kd-trees (4, drawn from a
+// fixed seed so that runs repeat) on float descriptors (binary ones are expanded per bit, one
+// byte a bit, or with Kp/ByteToFloat to one float per byte), LSH on binary descriptors with the Hamming distance, or linear search. New words are added to
 // the index incrementally; it is rebuilt from the current words only when the vocabulary has
 // grown by Kp/FlannRebalancingFactor (2 = doubled) since the last build, which bounds both the
 // search-quality loss of incremental insertion and the memory of removed words.
