@@ -6,6 +6,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "common/TestData.h"
+
 namespace rtabmap::bayes {
 namespace {
 
@@ -131,7 +133,7 @@ TEST(BayesFilter, DefaultModelIsSymmetricAndPeaksOnTheLocation) {
 }
 
 TEST(BayesFilter, CachedRowsGiveTheSameResultAsFullUpdates) {
-  std::mt19937 rng(7);
+  std::mt19937 rng(test::drawSeed(7));
   Graph g;
   // Flat weights over 16 links: every depth matters at the test's tolerance.
   BayesFilterOptions cachedOptions;
@@ -193,7 +195,7 @@ TEST(BayesFilter, RejectsBadInput) {
 TEST(BayesFilter, FlatAndMapFormsAgree) {
   Graph g = chain(1, 40);
   BayesFilter flat, map;
-  std::mt19937 rng(3);
+  std::mt19937 rng(test::drawSeed(3));
   std::uniform_real_distribution<float> u(0.f, 1.f);
   for (int t = 0; t < 10; ++t) {
     Scores l{{kVirtualPlace, 1.f + u(rng)}};

@@ -67,7 +67,7 @@ TEST(DatabaseErrors, RandomBytesAreNotADatabase) {
   TempDir dir;
   const std::string path = dir.file("random.db");
   std::vector<char> bytes(8192);
-  std::mt19937 rng(3);
+  std::mt19937 rng(drawSeed(3));
   for (char& b : bytes) b = static_cast<char>(rng());
   writeFile(path, bytes);
   for (const Database::Options& options : {Database::Options(), readOnly()}) {
@@ -84,7 +84,7 @@ TEST(DatabaseErrors, GarbageAfterAValidHeaderIsCorrupt) {
   const std::string path = dir.file("garbage.db");
   makeDatabase(path, 3);
   std::vector<char> bytes = readFile(path);
-  std::mt19937 rng(5);
+  std::mt19937 rng(drawSeed(5));
   for (size_t i = 100; i < bytes.size(); ++i) bytes[i] = static_cast<char>(rng());  // keep the header
   writeFile(path, bytes);
   const std::string error = errorOf([&] { Database db(path, readOnly()); });

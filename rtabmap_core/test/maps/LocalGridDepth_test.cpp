@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 
+#include "common/TestData.h"
 #include "maps/MapsTestUtil.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/maps/LocalGridMaker.h"
@@ -294,7 +295,7 @@ TEST(LocalGridDepth, StereoBlockMatchingGivesTheDepthOfATexturedPlane) {
   const double f = 400, baseline = 0.1, z = 2.0;
   const int disparity = static_cast<int>(std::lround(f * baseline / z));  // 20 px
   cv::Mat texture(240, 320 + disparity, CV_8UC1);
-  cv::RNG rng(7);
+  cv::RNG rng(test::drawSeed(7));
   rng.fill(texture, cv::RNG::UNIFORM, 0, 255);
   cv::GaussianBlur(texture, texture, cv::Size(3, 3), 0.8);
   // left(u) = texture(u), right(u) = texture(u + d): a point at left column u is at u - d on the

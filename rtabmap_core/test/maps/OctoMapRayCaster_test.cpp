@@ -13,6 +13,7 @@
 
 #include "../../src/maps/RayCaster.h"
 #include "../../src/maps/VoxelBitset.h"
+#include "common/TestData.h"
 
 using rtabmap::maps_detail::mortonCode;
 using rtabmap::maps_detail::RayCaster;
@@ -69,7 +70,7 @@ std::vector<octomap::point3d> sphere(const octomap::point3d& origin, float radiu
 void expectSameAsReference(size_t rays, float radius, float maxRange) {
   const octomap::OcTree tree(0.05);
   const octomap::point3d origin(0.013f, -0.021f, 0.37f);  // across the keys' sign boundary
-  const std::vector<octomap::point3d> ends = sphere(origin, radius, static_cast<int>(rays), 7u);
+  const std::vector<octomap::point3d> ends = sphere(origin, radius, static_cast<int>(rays), rtabmap::test::drawSeed(7));
   std::vector<octomap::OcTreeKey> occupied;
   for (const octomap::point3d& e : ends) occupied.push_back(tree.coordToKey(e));
   RayCaster caster;
@@ -86,7 +87,7 @@ void expectSameAsReference(size_t rays, float radius, float maxRange) {
 }  // namespace
 
 TEST(OctoMapVoxelBitset, GivesBackTheKeysSetInMortonOrder) {
-  std::mt19937 rng(3);
+  std::mt19937 rng(rtabmap::test::drawSeed(3));
   std::uniform_int_distribution<int> d(-70, 70);
   const octomap::OcTreeKey lo(32768 - 70, 32768 - 70, 32768 - 70), hi(32768 + 70, 32768 + 70, 32768 + 70);
   VoxelBitset a, b, mask;
@@ -130,7 +131,7 @@ TEST(OctoMapVoxelBitset, TrySetMarksWhatSetMarksAndRefusesKeysOutsideTheBox) {
   VoxelBitset bySet, byTry;
   ASSERT_TRUE(bySet.reset(lo, hi));
   ASSERT_TRUE(byTry.reset(lo, hi));
-  std::mt19937 rng(5);
+  std::mt19937 rng(rtabmap::test::drawSeed(5));
   std::uniform_int_distribution<int> d(-40, 120);
   int inside = 0, outside = 0;
   for (int i = 0; i < 20000; ++i) {

@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 
+#include "common/TestData.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/memory/Signature.h"
 
@@ -18,9 +19,10 @@ namespace rtabmap::memory {
 namespace {
 
 // A scene of n points 3-8 m in front of the first camera, seen by a pinhole camera (f 500,
-// 640 x 480) from `motion` (camera frame: x right, y down, z forward).
-std::vector<cv::Point3f> scene(int n, uint64_t seed) {
-  cv::RNG rng(seed);
+// 640 x 480) from `motion` (camera frame: x right, y down, z forward). Another scene on each
+// test draw (RTABMAP_TEST_DRAW).
+std::vector<cv::Point3f> scene(int n, unsigned seed) {
+  cv::RNG rng(test::drawSeed(seed));
   std::vector<cv::Point3f> points;
   for (int i = 0; i < n; ++i) {
     // Braces: drawn in order.
@@ -79,7 +81,7 @@ TEST(EpipolarCheck, TheSameWordsInAnotherArrangementAreRefused) {
   for (int n : {40, 120}) {
     for (unsigned seed = 1; seed <= 5; ++seed) {
       std::vector<int> shuffled = distinctWords(120);
-      std::shuffle(shuffled.begin(), shuffled.begin() + n, std::mt19937(seed));
+      std::shuffle(shuffled.begin(), shuffled.begin() + n, std::mt19937(test::drawSeed(seed)));
       std::vector<cv::KeyPoint> kpts = project(points, yaw(0.15f), {0.4f, 0.f, -0.3f});
       kpts.resize(static_cast<size_t>(n));
       shuffled.resize(static_cast<size_t>(n));
@@ -99,7 +101,7 @@ TEST(EpipolarCheck, TrueViewWithManyWrongPairsStillAgrees) {
   std::vector<int> words = distinctWords(150);
   const Signature a = location(1, project(points, cv::Matx33f::eye(), {0, 0, 0}), words);
   std::vector<int> noisy = words;
-  std::shuffle(noisy.begin(), noisy.begin() + 60, std::mt19937(11));
+  std::shuffle(noisy.begin(), noisy.begin() + 60, std::mt19937(test::drawSeed(11)));
   const Signature b = location(2, project(points, yaw(-0.1f), {-0.3f, 0.05f, 0.5f}), noisy);
   const EpipolarCheckSummary r = checkEpipolarGeometry(a, b, defaults());
   EXPECT_TRUE(r.accepted) << r.Summary();

@@ -12,6 +12,7 @@
 #include "../../src/optimizer/Se2Residual.h"
 #include "../../src/optimizer/Se3Manifold.h"
 #include "../../src/optimizer/Se3Residual.h"
+#include "common/TestData.h"
 #include "rtabmap_core/optimizer/Chi2.h"
 
 namespace rtabmap {
@@ -152,7 +153,7 @@ TEST(Residuals, WrapAngleIsInMinusPiPi) {
 }
 
 TEST(Residuals, Se2EdgeJacobiansMatchNumericalDerivatives) {
-  std::mt19937 rng(1);
+  std::mt19937 rng(test::drawSeed(1));
   std::uniform_real_distribution<double> t(-5, 5), a(-M_PI, M_PI);
   for (int trial = 0; trial < 20; ++trial) {
     const Eigen::Vector3d z{t(rng), t(rng), a(rng)};
@@ -164,7 +165,7 @@ TEST(Residuals, Se2EdgeJacobiansMatchNumericalDerivatives) {
 }
 
 TEST(Residuals, Se2EdgeAutoDiffMatchesAnalytic) {
-  std::mt19937 rng(2);
+  std::mt19937 rng(test::drawSeed(2));
   std::uniform_real_distribution<double> t(-5, 5), a(-M_PI, M_PI);
   for (int trial = 0; trial < 10; ++trial) {
     const Eigen::Vector3d z{t(rng), t(rng), a(rng)};
@@ -192,7 +193,7 @@ TEST(Residuals, Se2EdgeResidualIsTheG2oChi2) {
 }
 
 TEST(Residuals, Se3EdgeJacobiansMatchNumericalDerivatives) {
-  std::mt19937 rng(3);
+  std::mt19937 rng(test::drawSeed(3));
   for (int trial = 0; trial < 20; ++trial) {
     const Transform z = randomPose(rng);
     Se3EdgeCost cost(z.translation(), z.quaternion(), randomSqrtInfo6(rng));
@@ -211,7 +212,7 @@ TEST(Residuals, Se3EdgeJacobianHoldsWhenTheErrorQuaternionIsFlipped) {
   const Transform xi = Transform::Identity();
   for (double angle : {3.12, -3.12, 2.0}) {
     const Transform xj = z * Transform(0.1, 0.2, 0.3, 0.0, 0.0, angle);
-    std::mt19937 rng(4);
+    std::mt19937 rng(test::drawSeed(4));
     Se3EdgeCost cost(z.translation(), z.quaternion(), randomSqrtInfo6(rng));
     expectJacobiansMatchNumerical(cost, {se3Block(xi), se3Block(xj)}, {6, 6}, {kPlusSe3, kPlusSe3});
     // And the residual really uses w >= 0: qvec ~ sin(angle / 2) about z.
@@ -225,7 +226,7 @@ TEST(Residuals, Se3EdgeJacobianHoldsWhenTheErrorQuaternionIsFlipped) {
 }
 
 TEST(Residuals, Se3EdgeAutoDiffMatchesAnalytic) {
-  std::mt19937 rng(5);
+  std::mt19937 rng(test::drawSeed(5));
   for (int trial = 0; trial < 10; ++trial) {
     const Transform z = randomPose(rng);
     const Matrix6 s = randomSqrtInfo6(rng);
@@ -238,7 +239,7 @@ TEST(Residuals, Se3EdgeAutoDiffMatchesAnalytic) {
 }
 
 TEST(Residuals, Se3EdgeResidualIsTheG2oChi2) {
-  std::mt19937 rng(6);
+  std::mt19937 rng(test::drawSeed(6));
   const Transform xi = randomPose(rng), xj = randomPose(rng), z = randomPose(rng);
   Link::InfMatrix info = Link::InfMatrix::Identity();
   info.diagonal() << 10, 20, 30, 40, 50, 60;
@@ -255,7 +256,7 @@ TEST(Residuals, Se3EdgeResidualIsTheG2oChi2) {
 }
 
 TEST(Residuals, PriorJacobiansMatchNumericalDerivatives) {
-  std::mt19937 rng(7);
+  std::mt19937 rng(test::drawSeed(7));
   std::uniform_real_distribution<double> t(-5, 5), a(-M_PI, M_PI);
   for (int trial = 0; trial < 10; ++trial) {
     const Eigen::Vector3d prior{t(rng), t(rng), a(rng)};
@@ -268,7 +269,7 @@ TEST(Residuals, PriorJacobiansMatchNumericalDerivatives) {
 }
 
 TEST(Residuals, PriorAutoDiffMatchesAnalyticAndTheChi2) {
-  std::mt19937 rng(8);
+  std::mt19937 rng(test::drawSeed(8));
   const Transform z = randomPose(rng), x = randomPose(rng);
   const Matrix6 s = randomSqrtInfo6(rng);
   std::unique_ptr<ceres::CostFunction> a3(makeSe3PriorCost(z.translation(), z.quaternion(), s, false));
@@ -295,7 +296,7 @@ TEST(Residuals, PriorAutoDiffMatchesAnalyticAndTheChi2) {
 }
 
 TEST(Residuals, GravityJacobianMatchesNumericalDerivatives) {
-  std::mt19937 rng(9);
+  std::mt19937 rng(test::drawSeed(9));
   for (int trial = 0; trial < 10; ++trial) {
     GravityCost cost(randomPose(rng, 0.5).quaternion(), 0.2);
     expectJacobiansMatchNumerical(cost, {se3Block(randomPose(rng))}, {6}, {kPlusSe3});
@@ -322,7 +323,7 @@ TEST(Residuals, GravityIgnoresYawAndSeesRollAndPitch) {
 }
 
 TEST(Residuals, Se3ManifoldPlusAndMinusAreInverse) {
-  std::mt19937 rng(10);
+  std::mt19937 rng(test::drawSeed(10));
   std::uniform_real_distribution<double> d(-0.5, 0.5);
   Se3TangentManifold manifold;
   EXPECT_EQ(manifold.AmbientSize(), 7);

@@ -111,7 +111,7 @@ TEST(SimOdometry, WithNoiseTheErrorGrowsWithDistance) {
   const int seeds = 6;
   for (int seed = 0; seed < seeds; ++seed) {
     RobotSimulator robot(path);
-    WheelOdometry odom(OdometryNoise(), static_cast<uint64_t>(seed));
+    WheelOdometry odom(OdometryNoise(), rtabmap::test::drawSeed(static_cast<unsigned>(seed)));
     const Pose2 start = robot.state().pose;
     odom.reset(start);
     double travelled = 0.0;
@@ -143,7 +143,7 @@ TEST(SimImu, AtRestItReadsGravityAndItsGyroIntegratesToTheYawChange) {
   const ReferencePath path(loopRoute(), MotionLimits());
   RobotSimulator robot(path);
   ImuModel exact(ImuNoise::none(), 200.0, 1);
-  ImuModel noisy(ImuNoise(), 200.0, 1);
+  ImuModel noisy(ImuNoise(), 200.0, rtabmap::test::drawSeed(1));
   double integrated = 0.0, noisyIntegrated = 0.0, trueYaw = 0.0, noisyWindowTruth = 0.0;
   long long steps = 0;
   int restSamples = 0;
@@ -168,6 +168,9 @@ TEST(SimImu, AtRestItReadsGravityAndItsGyroIntegratesToTheYawChange) {
       ++restSamples;
     }
   }
+  // The steps after the last 200 Hz sample: the robot may still be settling its heading there
+  // (1.8e-7 rad left out on another building's route).
+  if (steps % 5) integrated += exact.sample(robot.state().t).angularVelocity.z() * (steps % 5) * robot.stepSeconds();
   ASSERT_GT(restSamples, 150);
   EXPECT_NEAR(integrated, trueYaw, 1e-7);  // the same sum, added up in another order
   EXPECT_GT(std::fabs(trueYaw), 2.0 * M_PI - 0.5);  // at least a lap

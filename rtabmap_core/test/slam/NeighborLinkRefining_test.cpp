@@ -38,7 +38,7 @@ Link refinedLink(const test::World2D& world, const Transform& start, const Trans
   test::Lidar2D lidar;
   lidar.rangeMax = 8.0;
   lidar.noise = 0.005;
-  std::mt19937 rng(7);
+  std::mt19937 rng(test::drawSeed(7));
   // Wheel odometry: isotropic 1 cm / 0.01 rad, a little off the true motion.
   const Cov wheel = Cov::Identity() * 1e-4;
   const Transform odomError(0.02, -0.01, 0.0, 0.0, 0.0, 0.01);
