@@ -177,7 +177,11 @@ TEST(Vocabulary, KdTreesGiveTheSameWordsRunToRun) {
       if (type == CV_32F) {
         q += randomFloat(1, 32, 9000 + i) * 0.15;
       } else {
-        for (int flip = 0; flip < 6; ++flip) q.at<uchar>(0, rng.uniform(0, 32)) ^= 1 << rng.uniform(0, 8);
+        for (int flip = 0; flip < 6; ++flip) {
+          const int bit = rng.uniform(0, 8);  // drawn in statements: the order is ours, not the compiler's
+          const int byte = rng.uniform(0, 32);
+          q.at<uchar>(0, byte) ^= static_cast<uchar>(1 << bit);
+        }
       }
       q.copyTo(queries.row(i));
     }
