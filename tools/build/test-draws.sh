@@ -10,7 +10,7 @@
 set -uo pipefail
 dir="$1"; draws="${2:-20}"
 # A binary, or binary:gtest_filter where most of its tests draw nothing (or take minutes).
-suites=(test_features test_registration test_odometry test_optimizer test_bayes test_codec
+suites=(test_features test_registration test_odometry test_optimizer test_bayes test_codec test_vocabulary
         test_geometry:'Transform.*:CameraModel.*'
         test_maps:'OctoMapVoxelBitset.*:OctoMapRayCaster.*:OccupancyGrid.*:LocalGridDepth.*'
         test_db:'DatabaseErrors.*'

@@ -6,19 +6,24 @@
 #include <random>
 #include <stdexcept>
 
+#include "common/TestData.h"
+
 namespace rtabmap::vocabulary {
 namespace {
 
-cv::Mat randomFloat(int rows, int cols, uint64_t seed) {
+// Rows from the test's draw (RTABMAP_TEST_DRAW). Tests that count words take 256 dimensions:
+// in 64, two uniform rows pass the 0.8 ratio test against each other now and then (about one
+// 200-row image in seven), and a "new" word is then rightly matched.
+cv::Mat randomFloat(int rows, int cols, unsigned seed) {
   cv::Mat m(rows, cols, CV_32F);
-  cv::RNG rng(seed);
+  cv::RNG rng(test::drawSeed(seed));
   rng.fill(m, cv::RNG::UNIFORM, 0.f, 1.f);
   return m;
 }
 
-cv::Mat randomBinary(int rows, int bytes, uint64_t seed) {
+cv::Mat randomBinary(int rows, int bytes, unsigned seed) {
   cv::Mat m(rows, bytes, CV_8U);
-  cv::RNG rng(seed);
+  cv::RNG rng(test::drawSeed(seed));
   rng.fill(m, cv::RNG::UNIFORM, 0, 256);
   return m;
 }
@@ -48,14 +53,14 @@ TEST_P(VocabularyStrategies, SameDescriptorsMapToTheSameWordsFarOnesMakeNewWords
   VocabularyOptions o;
   o.nnStrategy = strategy;
   Vocabulary v(o);
-  cv::Mat first = type == CV_32F ? randomFloat(200, 64, 1) : randomBinary(200, 32, 1);
+  cv::Mat first = type == CV_32F ? randomFloat(200, 256, 1) : randomBinary(200, 32, 1);
   auto ids1 = v.quantize(first, 1);
   EXPECT_EQ(v.size(), 200u);  // random descriptors: nothing shared
   EXPECT_EQ(v.summary().lastNewWords, 200);
   for (int i = 0; i < 200; ++i) EXPECT_EQ(ids1[i], i + 1);
 
   cv::Mat second;
-  cv::vconcat(first.rowRange(0, 100), type == CV_32F ? randomFloat(50, 64, 2) : randomBinary(50, 32, 2), second);
+  cv::vconcat(first.rowRange(0, 100), type == CV_32F ? randomFloat(50, 256, 2) : randomBinary(50, 32, 2), second);
   auto ids2 = v.quantize(second, 2);
   for (int i = 0; i < 100; ++i) EXPECT_EQ(ids2[i], ids1[i]) << "row " << i;
   // LSH sees only the candidates of its buckets, already closer than random ones: now and then
@@ -153,9 +158,9 @@ TEST(Vocabulary, IncrementalIndexAnswersLikeARebuiltOne) {
 
 // The randomised kd-trees are built from a fixed seed (ReproducibleKdTree.h): two vocabularies
 // fed the same descriptors answer every approximate query alike, through rebuilds and
-// incremental insertion. Few checks, so the answers depend on the trees: a fair share of them
-// differ from brute force, and trees drawn at random (Debian FLANN's own build) disagree between
-// the two vocabularies.
+// incremental insertion. Few checks, so the answers depend on the trees: some of them (5 to 60
+// of 600) differ from brute force, and trees drawn at random (Debian FLANN's own build)
+// disagree between the two vocabularies.
 TEST(Vocabulary, KdTreesGiveTheSameWordsRunToRun) {
   for (const int type : {CV_32F, CV_8U}) {
     SCOPED_TRACE(type == CV_32F ? "float descriptors" : "binary descriptors");
@@ -171,7 +176,7 @@ TEST(Vocabulary, KdTreesGiveTheSameWordsRunToRun) {
     ASSERT_GE(a.summary().indexBuilds, 2);  // rebuilt at least once after the first build
     // Queries near existing words (a few percent of noise, a few bits flipped).
     cv::Mat queries = type == CV_32F ? randomFloat(600, 32, 77) : randomBinary(600, 32, 77);
-    cv::RNG rng(78);
+    cv::RNG rng(test::drawSeed(78));
     for (int i = 0; i < queries.rows; ++i) {
       cv::Mat q = a.word(1 + i * 4)->descriptor.clone();
       if (type == CV_32F) {
@@ -191,7 +196,7 @@ TEST(Vocabulary, KdTreesGiveTheSameWordsRunToRun) {
       EXPECT_EQ(fa[i], fb[i]) << "query " << i;
       differFromExact += fa[i] != bruteForceWord(a, queries.row(i), o.nndrRatio);
     }
-    EXPECT_GE(differFromExact, 10) << "the search is exact here: the test would not see the trees";
+    EXPECT_GE(differFromExact, 3) << "the search is exact here: the test would not see the trees";
     EXPECT_LE(differFromExact, queries.rows / 2) << "trees far worse than FLANN's";
   }
 }
@@ -207,10 +212,14 @@ TEST(Vocabulary, IncrementalBinaryIndexAnswersLikeBruteForce) {
   for (int loc = 1; loc <= 8; ++loc) v.quantize(randomBinary(60, 32, 200 + loc), loc);
   ASSERT_GT(v.summary().indexBuilds, 1);
   cv::Mat queries = randomBinary(200, 32, 998);
-  cv::RNG rng(7);
+  cv::RNG rng(test::drawSeed(7));
   for (int i = 0; i < 100; ++i) {
     v.word(1 + i * 4)->descriptor.copyTo(queries.row(i));
-    for (int f = 0; f < 12; ++f) queries.at<uchar>(i, rng.uniform(0, 32)) ^= static_cast<uchar>(1 << rng.uniform(0, 8));
+    for (int f = 0; f < 12; ++f) {
+      const int bit = rng.uniform(0, 8);  // drawn in statements: the order is ours, not the compiler's
+      const int byte = rng.uniform(0, 32);
+      queries.at<uchar>(i, byte) ^= static_cast<uchar>(1 << bit);
+    }
   }
   const auto found = v.findWords(queries);
   int matched = 0;
@@ -224,13 +233,13 @@ TEST(Vocabulary, IncrementalBinaryIndexAnswersLikeBruteForce) {
 
 TEST(Vocabulary, IndexIsRebuiltWhenTheVocabularyDoubles) {
   Vocabulary v;
-  v.quantize(randomFloat(100, 64, 1), 1);
+  v.quantize(randomFloat(100, 256, 1), 1);
   ASSERT_EQ(v.size(), 100u);
   EXPECT_EQ(v.summary().indexBuilds, 1);
-  v.quantize(randomFloat(100, 64, 2), 2);  // 200 words = 2 x 100: not more than doubled
+  v.quantize(randomFloat(100, 256, 2), 2);  // 200 words = 2 x 100: not more than doubled
   ASSERT_EQ(v.size(), 200u);
   EXPECT_EQ(v.summary().indexBuilds, 1);
-  v.quantize(randomFloat(5, 64, 3), 3);  // past the double: rebuilt over all words
+  v.quantize(randomFloat(5, 256, 3), 3);  // past the double: rebuilt over all words
   EXPECT_EQ(v.summary().indexBuilds, 2);
   EXPECT_EQ(v.summary().lastBuildSize, static_cast<int>(v.size()));
 }
@@ -240,13 +249,13 @@ TEST(Vocabulary, IndexIsRebuiltWhenTheVocabularyDoubles) {
 // dead points between builds.
 TEST(Vocabulary, RemovedWordsCountTowardsTheRebuild) {
   Vocabulary v;
-  cv::Mat first = randomFloat(100, 64, 11);
+  cv::Mat first = randomFloat(100, 256, 11);
   auto ids = v.quantize(first, 1);
   ASSERT_EQ(v.summary().indexBuilds, 1);
   for (int i = 0; i < 90; ++i) v.removeWord(ids[i]);
-  v.quantize(randomFloat(90, 64, 12), 2);  // 100 + 90 points held: no rebuild yet
+  v.quantize(randomFloat(90, 256, 12), 2);  // 100 + 90 points held: no rebuild yet
   EXPECT_EQ(v.summary().indexBuilds, 1);
-  v.quantize(randomFloat(20, 64, 13), 3);  // 210 > 2 x 100: rebuilt over the 120 live words
+  v.quantize(randomFloat(20, 256, 13), 3);  // 210 > 2 x 100: rebuilt over the 120 live words
   EXPECT_EQ(v.summary().indexBuilds, 2);
   EXPECT_EQ(v.summary().lastBuildSize, 120);
   EXPECT_EQ(v.findWords(first.row(95))[0], ids[95]);
@@ -283,7 +292,7 @@ TEST(Vocabulary, ExactWordIsTheSameBytesWithoutSearching) {
 
 TEST(Vocabulary, WordsLeaveAndComeBackWithTheirIds) {
   Vocabulary v;
-  cv::Mat d = randomFloat(30, 64, 7);
+  cv::Mat d = randomFloat(30, 256, 7);
   auto ids = v.quantize(d, 1);
   std::multimap<int, int> words;
   for (int i = 0; i < d.rows; ++i) words.emplace(ids[i], i);
@@ -299,7 +308,7 @@ TEST(Vocabulary, WordsLeaveAndComeBackWithTheirIds) {
   EXPECT_EQ(v.word(ids[5])->references.at(9), 1);
   EXPECT_THROW(v.addWord(out), std::invalid_argument);  // id in use
   // New words continue after the highest id.
-  auto next = v.quantize(randomFloat(1, 64, 8), 2);
+  auto next = v.quantize(randomFloat(1, 256, 8), 2);
   EXPECT_EQ(next[0], 31);
 }
 
