@@ -7,7 +7,9 @@ import os
 import signal
 import sqlite3
 import subprocess
+import time
 
+import rosgraph
 import rospy
 
 PKG = "rtabmap_ros"
@@ -84,8 +86,27 @@ class SlamNode:
         return self.process
 
     def wait_ready(self, service="/list_labels", timeout=30.0):
-        """The node is up when its services are advertised (after the core opened the database)."""
+        """The node is up when its services are advertised (after the core opened the database)
+        and the master lists it as a subscriber of the bag's sensor topics and tf: the node
+        subscribes after advertising its services, and a bag played in between (a loaded
+        machine) would map nothing."""
         rospy.wait_for_service(service, timeout=timeout)
+        wanted = {"/tf"}
+        if self.parameters.get("subscribe_depth"):
+            wanted |= set(CAMERA_TOPICS)
+        if self.parameters.get("subscribe_scan"):
+            wanted.add("/scan")
+        master = rosgraph.Master("/fault_common")
+        deadline = time.time() + timeout
+        while True:
+            _, subscribers, _ = master.getSystemState()
+            missing = wanted - {topic for topic, nodes in subscribers if "/" + NODE in nodes}
+            if not missing:
+                return
+            if time.time() > deadline or not self.alive():
+                raise AssertionError("the rtabmap node did not subscribe to %s within %.0f s" %
+                                     (", ".join(sorted(missing)), timeout))
+            time.sleep(0.05)
 
     def alive(self):
         return self.process is not None and self.process.poll() is None
