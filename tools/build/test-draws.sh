@@ -2,8 +2,8 @@
 # Runs the core suites built on synthetic scenes (the rendered room, the square-loop graphs, the
 # bundle-adjustment scene, the registration tests' point sets, the lidar odometry's range noise,
 # the residual and transform checks' random poses, the Bayes filter's likelihoods, the grids'
-# scans and noise, the ray caster's rays, the epipolar check's scenes, the simulator's materials
-# and sensor noise) over other random draws of those scenes: RTABMAP_TEST_DRAW=1..N moves
+# scans and noise, the ray caster's rays, the epipolar check's scenes, the simulator's materials,
+# sensor noise, building and route) over other random draws of those scenes: RTABMAP_TEST_DRAW=1..N moves
 # every such seed (test::drawSeed). make test runs draw 0 only; a bound that was fitted to that
 # one draw, rather than to what the method guarantees, fails here on some other draw.
 # Usage: test-draws.sh TEST_BIN_DIR [DRAWS]   (DRAWS defaults to 20; about 25 s per draw)
@@ -16,7 +16,7 @@ suites=(test_features test_registration test_odometry test_optimizer test_bayes 
         test_db:'DatabaseErrors.*'
         test_memory:'EpipolarCheck.*'
         test_slam:'NeighborLinkRefining.*'
-        test_sim:'SimRandom.*:SimMaterials.*:SimDecals.*:SimPng.*:SimOdometry.*:SimImu.*')
+        test_sim:'SimRandom.*:SimMaterials.*:SimDecals.*:SimPng.*:SimOdometry.*:SimImu.*:SimMotion.*:SimScenarios.*:SimBuilding.*')
 for s in "${suites[@]}"; do
   [[ -x "$dir/${s%%:*}" ]] || { echo "test-draws: $dir/${s%%:*} not built" >&2; exit 2; }
 done

@@ -17,6 +17,24 @@ double signedAngle(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 }  // namespace
 
+double ReferencePath::cornerRoom(size_t segment, const std::vector<double>& turn, const std::vector<bool>& pivot,
+                                 const std::vector<double>& lens) const {
+  // Each corner may round off half of a segment. Between two arcs turning opposite ways the plan
+  // reverses its yaw rate at once; the robot's yaw rate takes maxYawRate / robotYawAcceleration
+  // to follow each step, so a short straight (twice the distance covered meanwhile at full
+  // speed) is kept between them: back to back, the two lags add up and the robot cuts the bend
+  // by decimetres.
+  const size_t a = segment, b = segment + 1;  // the segment's end vertices
+  const bool arcA = a > 0 && !pivot[a] && std::fabs(turn[a]) > 1e-6;
+  const bool arcB = b + 1 < turn.size() && !pivot[b] && std::fabs(turn[b]) > 1e-6;
+  double straight = 0.0;
+  if (arcA && arcB && turn[a] * turn[b] < 0.0) {
+    const double settle = 2.0 * limits_.maxSpeed * limits_.maxYawRate / limits_.robotYawAcceleration;
+    straight = std::min(settle, 0.5 * lens[segment]);
+  }
+  return 0.5 * (lens[segment] - straight);
+}
+
 ReferencePath::ReferencePath(const std::vector<Eigen::Vector2d>& waypoints, const MotionLimits& limits)
     : limits_(limits) {
   std::vector<Eigen::Vector2d> pts;
@@ -47,14 +65,15 @@ ReferencePath::ReferencePath(const std::vector<Eigen::Vector2d>& waypoints, cons
   std::vector<bool> pivot(n, false);
   for (size_t i = 1; i + 1 < n; ++i) {
     turn[i] = signedAngle(dirs[i - 1], dirs[i]);
+    pivot[i] = std::fabs(turn[i]) > limits.pivotAngle;
+  }
+  for (size_t i = 1; i + 1 < n; ++i) {
     const double a = std::fabs(turn[i]);
-    if (a > limits.pivotAngle) {
-      pivot[i] = true;
-    } else if (a > 1e-6) {
-      const double tanHalf = std::tan(0.5 * a);
-      radius[i] = std::min(limits.cornerRadius, 0.5 * std::min(lens[i - 1], lens[i]) / tanHalf);
-      cut[i] = radius[i] * tanHalf;
-    }
+    if (pivot[i] || a <= 1e-6) continue;
+    const double tanHalf = std::tan(0.5 * a);
+    const double room = std::min(cornerRoom(i - 1, turn, pivot, lens), cornerRoom(i, turn, pivot, lens));
+    radius[i] = std::min(limits.cornerRadius, room / tanHalf);
+    cut[i] = radius[i] * tanHalf;
   }
 
   double yaw = std::atan2(dirs[0].y(), dirs[0].x());

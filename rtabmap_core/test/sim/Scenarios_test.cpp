@@ -52,10 +52,10 @@ double oppositeShare(const Track& track, int* pairs) {
 TEST(SimScenarios, LoopRevisitsTheSameWayAndReverseTheOtherWay) {
   const Building& b = test::loopBuilding();
   int pairs = 0;
-  const Track loop = drive(planRoutes(scenarioSpec("loop"), b, 7, MotionLimits()).front().waypoints);
+  const Track loop = drive(planRoutes(scenarioSpec("loop"), b, rtabmap::test::drawSeed(7), MotionLimits()).front().waypoints);
   EXPECT_LT(oppositeShare(loop, &pairs), 0.1);
   EXPECT_GT(pairs, 20);
-  const Track reverse = drive(planRoutes(scenarioSpec("reverse"), b, 7, MotionLimits()).front().waypoints);
+  const Track reverse = drive(planRoutes(scenarioSpec("reverse"), b, rtabmap::test::drawSeed(7), MotionLimits()).front().waypoints);
   EXPECT_GT(oppositeShare(reverse, &pairs), 0.9);
   EXPECT_GT(pairs, 100);  // the whole lap, the other way
 }

@@ -64,6 +64,10 @@ class ReferencePath {
   void appendTranslation(const std::vector<Sample>& geometry);
   void appendTurn(double x, double y, double yaw0, double angle);
   void appendRest(double seconds);
+  // Length of `segment` (between waypoints segment and segment + 1) a corner at one of its ends
+  // may round off.
+  double cornerRoom(size_t segment, const std::vector<double>& turn, const std::vector<bool>& pivot,
+                    const std::vector<double>& lens) const;
 
   MotionLimits limits_;
   std::vector<Sample> samples_;  // time-ordered; interpolated linearly between
