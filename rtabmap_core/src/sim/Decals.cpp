@@ -197,7 +197,7 @@ void window(cv::Mat& img, Rng& rng, float tpm) {
         cv::rectangle(img, cv::Rect(wx, wy, 5, 6), cv::Scalar(110, 90, 80), cv::FILLED);
       }
     }
-    x += bw + rng.uniformInt(2, w / 10);
+    x += bw + rng.uniformInt(2, std::max(2, w / 10));  // a narrow window (coarse texels) still has gaps
   }
   const int count1 = rng.uniformInt(2, 6);  // drawn once, not per iteration
   for (int i = 0; i < count1; ++i) {

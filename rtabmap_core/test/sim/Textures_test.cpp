@@ -265,6 +265,26 @@ TEST(SimDecals, EachSeedDrawsAnotherPictureOfTheAskedSize) {
   EXPECT_EQ(randomWord(rng, 4, 4).size(), 4u);
 }
 
+TEST(SimDecals, EveryKindDrawsAtTheCoarsestDensityTheSimulatorAccepts) {
+  // rtabmap-sim --texture-size 32 draws decals at 16 texels per metre: a 0.5 m picture is 8
+  // pixels wide, and its random sizes and gaps (fractions of the width) must stay valid ranges.
+  Rng rng(drawSeed(5));
+  for (DecalKind kind : {DecalKind::kPoster, DecalKind::kNoticeBoard, DecalKind::kDoor, DecalKind::kWindow, DecalKind::kPainting,
+                         DecalKind::kWhiteboard, DecalKind::kSign, DecalKind::kPanel, DecalKind::kClock}) {
+    for (int i = 0; i < 30; ++i) {
+      const DecalLayout layout = typicalDecalLayout(kind, rng);
+      DecalSpec s;
+      s.kind = kind;
+      s.seed = static_cast<uint32_t>(rng.uniformInt(0, 1 << 30));
+      s.width = layout.width;
+      s.height = layout.height;
+      cv::Mat img;
+      ASSERT_NO_THROW(img = generateDecalImage(s, 16.0f)) << decalName(kind) << " seed " << s.seed;
+      EXPECT_FALSE(img.empty()) << decalName(kind);
+    }
+  }
+}
+
 TEST(SimPng, EncodesLosslesslyForAnyPngReader) {
   // Pixels from the test's draw (cv::randu would draw from cv::theRNG(), whose state depends on
   // the tests run before this one).
