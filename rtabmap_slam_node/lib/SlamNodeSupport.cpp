@@ -69,4 +69,14 @@ std::string expandHome(const std::string& path) {
   return std::string(home) + path.substr(1);
 }
 
+std::optional<ros::Time> MapToOdomStamps::next(const ros::Time& wanted, bool correctionChanged) {
+  if (wanted != lastWanted_) {  // the clock moved (either way: listeners reset on a jump back)
+    lastWanted_ = lastSent_ = wanted;
+    return wanted;
+  }
+  if (!correctionChanged) return std::nullopt;
+  lastSent_ += ros::Duration(0, 1);
+  return lastSent_;
+}
+
 }  // namespace rtabmap_slam_node

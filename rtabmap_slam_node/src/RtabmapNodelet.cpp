@@ -346,10 +346,10 @@ void RtabmapNodelet::onTfTimer(const ros::WallTimerEvent&) {
   t.child_frame_id = odomFrameId_;
   {
     std::lock_guard<std::mutex> lock(tfMutex_);
-    // A stopped simulated clock (bag paused or over) would repeat the stamp: tf listeners
-    // reject repeated data with a warning each time, and there is nothing new to say.
-    if (t.header.stamp == lastTfStamp_) return;
-    lastTfStamp_ = t.header.stamp;
+    const std::optional<ros::Time> stamp = tfStamps_.next(t.header.stamp, !(mapToOdom_ == lastTfSent_));
+    if (!stamp) return;
+    t.header.stamp = *stamp;
+    lastTfSent_ = mapToOdom_;
     t.transform = rtabmap_conversions::transformToMsg(mapToOdom_);
   }
   tfBroadcaster_->sendTransform(t);

@@ -240,7 +240,8 @@ class RtabmapNodelet : public nodelet::Nodelet {
 
   std::mutex tfMutex_;  // map -> odom for the timer (never waits on an update)
   rtabmap::Transform mapToOdom_ = rtabmap::Transform::Identity();
-  ros::Time lastTfStamp_;  // of the last map -> odom sent
+  rtabmap_slam_node::MapToOdomStamps tfStamps_;
+  rtabmap::Transform lastTfSent_;  // the last map -> odom sent (null: none yet)
 
   std::unique_ptr<tf2_ros::Buffer> tfBuffer_;
   std::unique_ptr<tf2_ros::TransformListener> tfListener_;

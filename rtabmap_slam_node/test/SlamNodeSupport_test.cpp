@@ -117,5 +117,24 @@ TEST(ExpandHome, OnlyALeadingTilde) {
   EXPECT_EQ(expandHome(""), "");
 }
 
+TEST(MapToOdomStamps, OnAStoppedClockOnlyANewCorrectionGoesOutEachANanosecondLater) {
+  MapToOdomStamps stamps;
+  // The clock runs: every tick goes out at its own stamp, changed or not.
+  EXPECT_EQ(stamps.next(ros::Time(10.3), true), ros::Time(10.3));
+  EXPECT_EQ(stamps.next(ros::Time(10.4), false), ros::Time(10.4));
+  // The bag ended: the same stamp again, nothing new to say.
+  EXPECT_FALSE(stamps.next(ros::Time(10.4), false).has_value());
+  // The node, catching up with queued data, corrects again: strictly newer stamps, which tf
+  // listeners take (they drop a stamp they already hold).
+  const ros::Time first = stamps.next(ros::Time(10.4), true).value();
+  EXPECT_GT(first, ros::Time(10.4));
+  EXPECT_LT(first, ros::Time(10.4) + ros::Duration(1e-6));
+  EXPECT_FALSE(stamps.next(ros::Time(10.4), false).has_value());
+  EXPECT_GT(stamps.next(ros::Time(10.4), true).value(), first);
+  // The bag restarted (the clock jumped back; listeners clear their buffers): its stamps again.
+  EXPECT_EQ(stamps.next(ros::Time(2.0), false), ros::Time(2.0));
+  EXPECT_EQ(stamps.next(ros::Time(2.1), false), ros::Time(2.1));
+}
+
 }  // namespace
 }  // namespace rtabmap_slam_node

@@ -4,8 +4,10 @@
 // node's arguments and paths.
 #include <Eigen/Core>
 #include <nav_msgs/OccupancyGrid.h>
+#include <ros/time.h>
 #include <std_msgs/Header.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,5 +49,20 @@ NodeArguments parseNodeArguments(const std::vector<std::string>& argv);
 
 // "~/x" -> "$HOME/x" (ROS params are not shell-expanded); other paths unchanged.
 std::string expandHome(const std::string& path);
+
+// Stamps of map -> odom, sent on a wall timer at now + tf_tolerance. A stopped simulated clock
+// (a bag paused or over) repeats that stamp, and tf listeners drop data at a stamp they already
+// hold (warning each time): nothing is sent then, unless the correction changed since the last
+// one sent (the node still catching up with queued data after the bag ended), which goes out one
+// nanosecond after it, so that listeners take it as the newest.
+class MapToOdomStamps {
+ public:
+  // The stamp to send the current correction with, or nothing to send. `wanted` = now +
+  // tf_tolerance; `correctionChanged`: differs from the last correction sent.
+  std::optional<ros::Time> next(const ros::Time& wanted, bool correctionChanged);
+
+ private:
+  ros::Time lastWanted_, lastSent_;
+};
 
 }  // namespace rtabmap_slam_node
