@@ -40,6 +40,10 @@ void addStaticTransforms(const rtabmap::SensorData& data, StaticTransforms& out)
   if (format != rtabmap::LaserScan::kUnknown) {
     out[rtabmap::LaserScan::is2d(format) ? kLaserFrame : kVelodyneFrame] = {kBaseFrame, mounting};
   }
+  if (data.stereoCameraModels().size() > 1) {
+    throw rtabmap::FormatError("a frame with " + std::to_string(data.stereoCameraModels().size()) +
+                               " stereo cameras: the bag layout has one RGB-D or stereo camera");
+  }
   if (data.isStereo()) {
     const rtabmap::StereoCameraModel& stereo = data.stereoCameraModels().front();
     addCamera(stereo.localTransform(), kLeftOpticalFrame, out);

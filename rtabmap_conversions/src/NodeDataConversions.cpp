@@ -1,5 +1,9 @@
 #include "rtabmap_conversions/NodeDataConversions.h"
 
+#include <ros/console.h>
+
+#include <cmath>
+
 #include "Support.h"
 #include "rtabmap_conversions/FeatureConversions.h"
 #include "rtabmap_conversions/TransformConversions.h"
@@ -49,23 +53,37 @@ bool setCameras(const rtabmap_ros::NodeData& msg, rtabmap::SensorData& data, std
                             std::to_string(msg.localTransform.size()) + ")");
     return false;
   }
-  if (msg.baseline > 0.0f && n != 1) {
-    detail::fail(error, "a stereo baseline with " + std::to_string(n) + " cameras (stereo nodes have one)");
-    return false;
-  }
   std::vector<rtabmap::CameraModel> models;
+  std::vector<rtabmap::StereoCameraModel> stereo;
   for (size_t i = 0; i < n; ++i) {
     const cv::Size size(static_cast<int>(msg.width[i]), static_cast<int>(msg.height[i]));
     const rtabmap::Transform local = transformFromMsg(msg.localTransform[i]);
+    // A baseline makes every camera of the node stereo (the classic message's convention).
     if (msg.baseline > 0.0f) {
-      data.setStereoImage(cv::Mat(), cv::Mat(),
-                          rtabmap::StereoCameraModel(msg.fx[i], msg.fy[i], msg.cx[i], msg.cy[i], msg.baseline, local, size));
-      return true;
+      stereo.emplace_back(msg.fx[i], msg.fy[i], msg.cx[i], msg.cy[i], msg.baseline, local, size);
+    } else {
+      models.emplace_back(msg.fx[i], msg.fy[i], msg.cx[i], msg.cy[i], local, 0.0, size);
     }
-    models.emplace_back(msg.fx[i], msg.fy[i], msg.cx[i], msg.cy[i], local, 0.0, size);
   }
-  data.setRGBDImage(cv::Mat(), cv::Mat(), models);
+  if (!stereo.empty()) {
+    data.setStereoImage(cv::Mat(), cv::Mat(), stereo);
+  } else {
+    data.setRGBDImage(cv::Mat(), cv::Mat(), models);
+  }
   return true;
+}
+
+// The message has one baseline for all stereo cameras: say so when the node's cameras differ,
+// since their depths will be off by the ratio of the baselines for whoever reads the message.
+void warnIfBaselinesDiffer(const std::vector<rtabmap::StereoCameraModel>& stereo, int id) {
+  for (const rtabmap::StereoCameraModel& model : stereo) {
+    if (std::abs(model.baseline() - stereo.front().baseline()) > 1e-6) {
+      ROS_WARN_THROTTLE(10.0, "NodeData of node %d: its %zu stereo cameras have different baselines (%g and %g m) "
+                        "but the message carries one: the first camera's is sent for all",
+                        id, stereo.size(), stereo.front().baseline(), model.baseline());
+      return;
+    }
+  }
 }
 
 }  // namespace
@@ -90,9 +108,10 @@ rtabmap_ros::NodeData nodeDataToMsg(const rtabmap::Signature& node, bool withSen
   msg.gps.bearing = gps.bearing;
 
   if (data.isStereo()) {
-    const rtabmap::StereoCameraModel& stereo = data.stereoCameraModels().front();
-    addCamera(msg, stereo.left());
-    msg.baseline = static_cast<float>(stereo.baseline());
+    const std::vector<rtabmap::StereoCameraModel>& stereo = data.stereoCameraModels();
+    for (const rtabmap::StereoCameraModel& model : stereo) addCamera(msg, model.left());
+    msg.baseline = static_cast<float>(stereo.front().baseline());
+    warnIfBaselinesDiffer(stereo, node.id());
   } else {
     for (const rtabmap::CameraModel& model : data.cameraModels()) addCamera(msg, model);
   }

@@ -66,7 +66,10 @@ rtabmap_ros::RGBDImage rgbdImageToMsg(const rtabmap::SensorData& data, const std
   std_msgs::Header rightHeader = header;
   if (!options.rightFrameId.empty()) rightHeader.frame_id = options.rightFrameId;
   const bool stereo = data.isStereo();
-  if (stereo) {
+  if (data.stereoCameraModels().size() > 1) {
+    throw rtabmap::FormatError("rgbdImageToMsg: the frame has " + std::to_string(data.stereoCameraModels().size()) +
+                               " stereo cameras; an RGBDImage holds one (use rgbdImagesToMsg)");
+  } else if (stereo) {
     stereoModelToMsgs(data.stereoCameraModels().front(), header, rightHeader, msg.rgb_camera_info,
                       msg.depth_camera_info);
   } else if (data.cameraModels().size() == 1) {
@@ -176,47 +179,61 @@ std::optional<rtabmap::SensorData> rgbdImageFromMsg(const rtabmap_ros::RGBDImage
   return data;
 }
 
+namespace {
+
+// Camera i's share (columns [i*w, (i+1)*w), w = width / n) of side-by-side images; empty stays
+// empty.
+cv::Mat cameraColumns(const cv::Mat& image, int i, int n) {
+  return image.empty() ? cv::Mat() : image.colRange(i * image.cols / n, (i + 1) * image.cols / n).clone();
+}
+
+// The features of `data` in camera i's columns [i*width, (i+1)*width), in its own coordinates.
+void setCameraFeatures(const rtabmap::SensorData& data, int i, float width, rtabmap::SensorData& part) {
+  std::vector<cv::KeyPoint> kpts;
+  std::vector<cv::Point3f> pts;
+  cv::Mat descriptors;
+  for (size_t k = 0; k < data.keypoints().size(); ++k) {
+    cv::KeyPoint kp = data.keypoints()[k];
+    if (kp.pt.x < i * width || kp.pt.x >= (i + 1) * width) continue;
+    kp.pt.x -= i * width;
+    kpts.push_back(kp);
+    if (!data.keypoints3D().empty()) pts.push_back(data.keypoints3D()[k]);
+    if (!data.descriptors().empty()) descriptors.push_back(data.descriptors().row(static_cast<int>(k)));
+  }
+  part.setFeatures(kpts, pts, descriptors);
+}
+
+}  // namespace
+
 rtabmap_ros::RGBDImages rgbdImagesToMsg(const rtabmap::SensorData& data, const std_msgs::Header& header,
                                         const std::vector<std_msgs::Header>& cameraHeaders,
                                         const RGBDImageOptions& options) {
-  const std::vector<rtabmap::CameraModel>& models = data.cameraModels();
-  if (models.empty() || data.isStereo() || cameraHeaders.size() != models.size()) {
-    throw rtabmap::FormatError("rgbdImagesToMsg: expected RGB-D cameras with one header each (" +
-                               std::to_string(models.size()) + " cameras, " +
-                               std::to_string(cameraHeaders.size()) + " headers)");
+  const bool stereo = data.isStereo();
+  const size_t cameras = stereo ? data.stereoCameraModels().size() : data.cameraModels().size();
+  if (cameras == 0 || cameraHeaders.size() != cameras) {
+    throw rtabmap::FormatError("rgbdImagesToMsg: expected cameras with one header each (" + std::to_string(cameras) +
+                               (stereo ? " stereo" : "") + " cameras, " + std::to_string(cameraHeaders.size()) +
+                               " headers)");
   }
   rtabmap::SensorData whole = data;
   whole.uncompress(true, true, false, false);
-  const cv::Mat& rgb = whole.imageRaw();
-  const cv::Mat& depth = whole.depthOrRightRaw();
-  const int n = static_cast<int>(models.size());
+  const cv::Mat& image = whole.imageRaw();
+  const cv::Mat& second = whole.depthOrRightRaw();
+  const int n = static_cast<int>(cameras);
   rtabmap_ros::RGBDImages msg;
   msg.header = header;
   for (int i = 0; i < n; ++i) {
     rtabmap::SensorData part;
-    const cv::Mat rgbPart = rgb.empty() ? cv::Mat() : rgb.colRange(i * rgb.cols / n, (i + 1) * rgb.cols / n).clone();
-    const cv::Mat depthPart =
-        depth.empty() ? cv::Mat() : depth.colRange(i * depth.cols / n, (i + 1) * depth.cols / n).clone();
-    part.setRGBDImage(rgbPart, depthPart, {models[size_t(i)]});
+    const size_t c = static_cast<size_t>(i);
+    const int modelWidth = stereo ? data.stereoCameraModels()[c].left().imageWidth() : data.cameraModels()[c].imageWidth();
+    if (stereo) {
+      part.setStereoImage(cameraColumns(image, i, n), cameraColumns(second, i, n), {data.stereoCameraModels()[c]});
+    } else {
+      part.setRGBDImage(cameraColumns(image, i, n), cameraColumns(second, i, n), {data.cameraModels()[c]});
+    }
     // Features belong to the camera whose columns hold them.
-    std::vector<cv::KeyPoint> kpts;
-    std::vector<cv::Point3f> pts;
-    std::vector<int> rows;
-    const float width = rgb.empty() ? float(models[size_t(i)].imageWidth()) : float(rgb.cols / n);
-    for (size_t k = 0; k < data.keypoints().size(); ++k) {
-      cv::KeyPoint kp = data.keypoints()[k];
-      if (kp.pt.x < i * width || kp.pt.x >= (i + 1) * width) continue;
-      kp.pt.x -= i * width;
-      kpts.push_back(kp);
-      if (!data.keypoints3D().empty()) pts.push_back(data.keypoints3D()[k]);
-      rows.push_back(static_cast<int>(k));
-    }
-    cv::Mat descriptors;
-    if (!data.descriptors().empty()) {
-      for (int r : rows) descriptors.push_back(data.descriptors().row(r));
-    }
-    part.setFeatures(kpts, pts, descriptors);
-    msg.rgbd_images.push_back(rgbdImageToMsg(part, cameraHeaders[size_t(i)], options));
+    setCameraFeatures(data, i, image.empty() ? float(modelWidth) : float(image.cols / n), part);
+    msg.rgbd_images.push_back(rgbdImageToMsg(part, cameraHeaders[c], options));
   }
   return msg;
 }
@@ -229,8 +246,9 @@ std::optional<rtabmap::SensorData> rgbdImagesFromMsg(const rtabmap_ros::RGBDImag
     return detail::fail(error, "RGBDImages has " + std::to_string(msg.rgbd_images.size()) + " cameras but " +
                                    std::to_string(localTransforms.size()) + " local transforms were given");
   }
-  std::vector<cv::Mat> rgbs, depths;
+  std::vector<cv::Mat> images, seconds;
   std::vector<rtabmap::CameraModel> models;
+  std::vector<rtabmap::StereoCameraModel> stereoModels;
   std::vector<cv::KeyPoint> kpts;
   std::vector<cv::Point3f> pts;
   cv::Mat descriptors;
@@ -239,11 +257,23 @@ std::optional<rtabmap::SensorData> rgbdImagesFromMsg(const rtabmap_ros::RGBDImag
     std::optional<rtabmap::SensorData> part = rgbdImageFromMsg(msg.rgbd_images[i], localTransforms[i], error);
     if (!part) return std::nullopt;
     const std::string what = "RGBDImages camera " + std::to_string(i);
-    if (part->isStereo()) return detail::fail(error, what + " is stereo; RGBDImages takes RGB-D cameras");
-    if (!rgbs.empty() && (part->imageRaw().size() != rgbs[0].size() || part->imageRaw().type() != rgbs[0].type() ||
-                          part->depthOrRightRaw().size() != depths[0].size() ||
-                          part->depthOrRightRaw().type() != depths[0].type())) {
-      return detail::fail(error, what + " has images of another size or type than camera 0");
+    if (i > 0 && part->isStereo() != !stereoModels.empty()) {
+      // Side by side in one frame, the second images are all depth or all right images.
+      const std::string kind = part->isStereo()                     ? "stereo"
+                               : part->depthOrRightRaw().empty() ? "without depth or right image (depth and "
+                                                                   "depth_compressed empty)"
+                                                                 : "RGB-D";
+      return detail::fail(error, what + " is " + kind + " but camera 0 is " + (stereoModels.empty() ? "RGB-D" : "stereo") +
+                                     ": the cameras of an RGBDImages must be all RGB-D or all stereo");
+    }
+    if (!images.empty() && (part->imageRaw().size() != images[0].size() || part->imageRaw().type() != images[0].type() ||
+                            part->depthOrRightRaw().size() != seconds[0].size() ||
+                            part->depthOrRightRaw().type() != seconds[0].type())) {
+      return detail::fail(error, what + " has images of another size or type than camera 0 (" +
+                                     sizeString(part->imageRaw().size()) + " and " +
+                                     sizeString(part->depthOrRightRaw().size()) + " vs " + sizeString(images[0].size()) +
+                                     " and " + sizeString(seconds[0].size()) +
+                                     "): side by side in one frame, every camera must have the same image size");
     }
     const float offset = static_cast<float>(i) * static_cast<float>(part->imageRaw().cols);
     for (cv::KeyPoint kp : part->keypoints()) {
@@ -253,14 +283,20 @@ std::optional<rtabmap::SensorData> rgbdImagesFromMsg(const rtabmap_ros::RGBDImag
     allPoints = allPoints && part->keypoints3D().size() == part->keypoints().size();
     pts.insert(pts.end(), part->keypoints3D().begin(), part->keypoints3D().end());
     if (!part->descriptors().empty()) descriptors.push_back(part->descriptors());
-    rgbs.push_back(part->imageRaw());
-    depths.push_back(part->depthOrRightRaw());
-    models.push_back(part->cameraModels().front());
+    images.push_back(part->imageRaw());
+    seconds.push_back(part->depthOrRightRaw());
+    if (part->isStereo()) {
+      stereoModels.push_back(part->stereoCameraModels().front());
+    } else {
+      models.push_back(part->cameraModels().front());
+    }
   }
-  cv::Mat rgb, depth;
-  cv::hconcat(rgbs, rgb);
-  if (!depths[0].empty()) cv::hconcat(depths, depth);
-  rtabmap::SensorData data(rgb, depth, models, 0, msg.header.stamp.toSec());
+  cv::Mat image, second;
+  cv::hconcat(images, image);
+  if (!seconds[0].empty()) cv::hconcat(seconds, second);
+  const double stamp = msg.header.stamp.toSec();
+  rtabmap::SensorData data = stereoModels.empty() ? rtabmap::SensorData(image, second, models, 0, stamp)
+                                                  : rtabmap::SensorData(image, second, stereoModels, 0, stamp);
   if (descriptors.rows != static_cast<int>(kpts.size())) descriptors = cv::Mat();
   data.setFeatures(kpts, allPoints ? pts : std::vector<cv::Point3f>(), descriptors);
   return data;

@@ -321,6 +321,18 @@ TEST_F(DatasetBagTest, BadInputsAreErrors) {
                                std::vector<CameraModel>{CameraModel(50, 50, 32, 24), CameraModel(50, 50, 32, 24)});
   DatasetBagWriter writer(path);
   EXPECT_THROW(writer.add(twoCameras), rtabmap::FormatError);
+  // The bag layout has one stereo pair of topics: two stereo cameras are refused, not cut to one.
+  DatasetRecord twoStereo;
+  twoStereo.stamp = 3.0;
+  const rtabmap::StereoCameraModel stereo(50, 50, 32, 24, 0.1, CameraModel::opticalRotation(), cv::Size(64, 48));
+  twoStereo.data = SensorData(randomImage(48, 128, CV_8UC1), randomImage(48, 128, CV_8UC1),
+                              std::vector<rtabmap::StereoCameraModel>{stereo, stereo});
+  try {
+    writer.add(twoStereo);
+    ADD_FAILURE() << "two stereo cameras were written to the bag";
+  } catch (const rtabmap::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("2 stereo cameras"), std::string::npos) << e.what();
+  }
 
   DatasetRecord nanStamp = rgbdLaserFrame(3.0, 1);
   nanStamp.stamp = std::numeric_limits<double>::quiet_NaN();

@@ -131,6 +131,43 @@ TEST(NodeDataConversions, StereoNodesKeepTheirBaseline) {
   EXPECT_TRUE(sameBits(raw.depthOrRightRaw(), data.depthOrRightRaw()));
 }
 
+TEST(NodeDataConversions, SeveralStereoCamerasTravelWithTheMessagesBaseline) {
+  // Two stereo cameras side by side (left images, and right images, concatenated).
+  const Transform second(0.0, 0.1, 0.5, -M_PI / 2, 0.0, 0.0);
+  const std::vector<rtabmap::StereoCameraModel> models = {
+      rtabmap::StereoCameraModel(60.0, 60.0, 32.0, 24.0, 0.25, kCamera, cv::Size(64, 48)),
+      rtabmap::StereoCameraModel(62.0, 61.0, 31.0, 23.0, 0.25, second, cv::Size(64, 48))};
+  SensorData data(smoothImage(48, 128, 1), randomImage(48, 128, CV_8UC1), models, 9, 1.0);
+  const rtabmap_ros::NodeData msg = nodeDataToMsg(Signature(9, 0, 0, 1.0, "", Transform::Identity(), Transform(), data));
+  ASSERT_EQ(msg.fx.size(), 2u);
+  EXPECT_FLOAT_EQ(msg.baseline, 0.25f);
+  std::string error;
+  const std::optional<Signature> back = nodeDataFromMsg(msg, &error);
+  ASSERT_TRUE(back) << error;
+  const std::vector<rtabmap::StereoCameraModel>& got = back->sensorData().stereoCameraModels();
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_TRUE(back->sensorData().cameraModels().empty());
+  for (size_t i = 0; i < 2; ++i) {
+    SCOPED_TRACE("camera " + std::to_string(i));
+    EXPECT_NEAR(got[i].baseline(), 0.25, 1e-6);
+    EXPECT_NEAR(got[i].left().fx(), models[i].left().fx(), 1e-4);
+    EXPECT_NEAR(got[i].left().fy(), models[i].left().fy(), 1e-4);
+    EXPECT_NEAR(got[i].left().cx(), models[i].left().cx(), 1e-4);
+    EXPECT_EQ(got[i].left().imageSize(), cv::Size(64, 48));
+    EXPECT_LT(got[i].localTransform().getDistance(models[i].localTransform()), 1e-6);
+    EXPECT_LT((got[i].localTransform().inverse() * models[i].localTransform()).getAngle(), 1e-6);
+  }
+  SensorData raw = back->sensorData();
+  raw.uncompress();
+  EXPECT_TRUE(sameBits(raw.depthOrRightRaw(), data.depthOrRightRaw()));
+  // MapData carries them the same way.
+  const rtabmap_ros::MapData map = mapDataToMsg({{9, Transform::Identity()}}, {}, {{9, *back}}, Transform::Identity(),
+                                                std_msgs::Header());
+  ASSERT_EQ(map.nodes.size(), 1u);
+  EXPECT_EQ(map.nodes[0].fx.size(), 2u);
+  EXPECT_FLOAT_EQ(map.nodes[0].baseline, 0.25f);
+}
+
 TEST(NodeDataConversions, BadNodesAreErrors) {
   std::string error;
   const rtabmap_ros::NodeData good = nodeDataToMsg(richNode(5));
@@ -143,16 +180,6 @@ TEST(NodeDataConversions, BadNodesAreErrors) {
   rtabmap_ros::NodeData m = good;
   m.cy.clear();
   expectError(m, "camera arrays");
-  m = good;
-  m.fx.push_back(1.0f);
-  m.fy.push_back(1.0f);
-  m.cx.push_back(1.0f);
-  m.cy.push_back(1.0f);
-  m.width.push_back(1.0f);
-  m.height.push_back(1.0f);
-  m.localTransform.push_back(m.localTransform[0]);
-  m.baseline = 0.1f;
-  expectError(m, "baseline");
   m = good;
   m.laserScanFormat = 77;
   expectError(m, "scan format");

@@ -229,3 +229,72 @@ TEST(RGBDImageConversions, SeveralCamerasTravelAsRGBDImages) {
   EXPECT_FALSE(rgbdImagesFromMsg(msg, {kLocal}, &error));
   EXPECT_NE(error.find("local transforms"), std::string::npos) << error;
 }
+
+TEST(RGBDImageConversions, SeveralStereoCamerasTravelAsRGBDImages) {
+  // Two stereo cameras side by side: left images concatenated, right images the same way.
+  const cv::Mat left = smoothImage(48, 128, 3);
+  const cv::Mat right = randomImage(48, 128, CV_8UC1, 5);
+  const Transform second(0, 0, 0.5, -M_PI / 2, 0, 0);
+  const rtabmap::StereoCameraModel stereo0(60.0, 60.0, 32.0, 24.0, 0.12, kLocal, cv::Size(64, 48));
+  const rtabmap::StereoCameraModel stereo1(62.0, 62.0, 31.0, 23.0, 0.2, second, cv::Size(64, 48));
+  SensorData data(left, right, std::vector<rtabmap::StereoCameraModel>{stereo0, stereo1}, 2, 9.0);
+  std::vector<cv::KeyPoint> kpts = {cv::KeyPoint(10, 10, 3), cv::KeyPoint(100, 20, 3), cv::KeyPoint(70, 5, 3)};
+  data.setFeatures(kpts, {}, randomImage(3, 16, CV_8UC1));
+  EXPECT_THROW(rgbdImageToMsg(data, header()), rtabmap::FormatError);
+  for (bool compressed : {false, true}) {
+    SCOPED_TRACE(compressed ? "compressed" : "raw");
+    RGBDImageOptions options;
+    options.compressed = compressed;
+    const rtabmap_ros::RGBDImages msg = rgbdImagesToMsg(data, header("base"), {header("cam0"), header("cam1")}, options);
+    ASSERT_EQ(msg.rgbd_images.size(), 2u);
+    EXPECT_EQ(msg.rgbd_images[1].header.frame_id, "cam1");
+    // Each entry is a stereo RGBDImage of its own camera: right info with Tx = -fx * baseline.
+    EXPECT_NEAR(-msg.rgbd_images[0].depth_camera_info.P[3] / msg.rgbd_images[0].depth_camera_info.P[0], 0.12, 1e-9);
+    EXPECT_NEAR(-msg.rgbd_images[1].depth_camera_info.P[3] / msg.rgbd_images[1].depth_camera_info.P[0], 0.2, 1e-9);
+    EXPECT_EQ(msg.rgbd_images[0].key_points.size(), 1u);
+    EXPECT_EQ(msg.rgbd_images[1].key_points.size(), 2u);
+    EXPECT_FLOAT_EQ(msg.rgbd_images[1].key_points[0].pt.x, 36.0f);  // 100 - 64: in camera 1's image
+
+    std::string error;
+    const std::optional<SensorData> back = rgbdImagesFromMsg(msg, {kLocal, second}, &error);
+    ASSERT_TRUE(back) << error;
+    ASSERT_TRUE(back->isStereo());
+    ASSERT_EQ(back->stereoCameraModels().size(), 2u);
+    EXPECT_TRUE(back->cameraModels().empty());
+    EXPECT_EQ(back->stereoCameraModels()[0].localTransform(), kLocal);
+    EXPECT_EQ(back->stereoCameraModels()[1].localTransform(), second);
+    EXPECT_NEAR(back->stereoCameraModels()[0].baseline(), 0.12, 1e-9);
+    EXPECT_NEAR(back->stereoCameraModels()[1].baseline(), 0.2, 1e-9);
+    EXPECT_DOUBLE_EQ(back->stereoCameraModels()[1].left().fx(), 62.0);
+    EXPECT_EQ(back->stereoCameraModels()[1].left().imageSize(), cv::Size(64, 48));
+    // The right images are lossless either way; the left ones when raw.
+    EXPECT_TRUE(sameBits(back->depthOrRightRaw(), right));
+    if (!compressed) EXPECT_TRUE(sameBits(back->imageRaw(), left));
+    ASSERT_EQ(back->keypoints().size(), 3u);
+    EXPECT_FLOAT_EQ(back->keypoints()[1].pt.x, 100.0f);  // back in the combined image
+    EXPECT_EQ(back->descriptors().rows, 3);
+  }
+}
+
+TEST(RGBDImageConversions, RGBDImagesOfMixedOrUnequalCamerasAreRefused) {
+  const rtabmap::StereoCameraModel stereo(60.0, 60.0, 32.0, 24.0, 0.12, kLocal, cv::Size(64, 48));
+  const SensorData pair(smoothImage(48, 64, 3), randomImage(48, 64, CV_8UC1, 4), stereo, 1, 3.5);
+  rtabmap_ros::RGBDImages msg;
+  msg.rgbd_images.push_back(rgbdImageToMsg(pair, header("cam0")));
+  msg.rgbd_images.push_back(rgbdImageToMsg(rgbdFrame(CV_16UC1), header("cam1")));
+  std::string error;
+  EXPECT_FALSE(rgbdImagesFromMsg(msg, {kLocal, kLocal}, &error));
+  EXPECT_NE(error.find("all RGB-D or all stereo"), std::string::npos) << error;
+  // A stereo camera of another size cannot sit beside the first.
+  const rtabmap::StereoCameraModel small(30.0, 30.0, 16.0, 12.0, 0.12, kLocal, cv::Size(32, 24));
+  msg.rgbd_images[1] =
+      rgbdImageToMsg(SensorData(smoothImage(24, 32, 3), randomImage(24, 32, CV_8UC1, 6), small), header("cam1"));
+  EXPECT_FALSE(rgbdImagesFromMsg(msg, {kLocal, kLocal}, &error));
+  EXPECT_NE(error.find("camera 1 has images of another size"), std::string::npos) << error;
+  // A stereo entry that lost its right image cannot sit beside a stereo camera either.
+  msg.rgbd_images[1] = rgbdImageToMsg(pair, header("cam1"));
+  msg.rgbd_images[1].depth = sensor_msgs::Image();
+  EXPECT_FALSE(rgbdImagesFromMsg(msg, {kLocal, kLocal}, &error));
+  EXPECT_NE(error.find("camera 1 is without depth or right image"), std::string::npos) << error;
+  EXPECT_NE(error.find("camera 0 is stereo"), std::string::npos) << error;
+}

@@ -85,9 +85,9 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
     if (!frame) return std::nullopt;
     const rtabmap::Transform local = syncedSensorPose(d, d.left->header.frame_id, d.left->header.stamp, error);
     if (local.isNull()) return std::nullopt;
-    rtabmap::StereoCameraModel model = frame->stereoCameraModels().front();
-    model.setLocalTransform(local);
-    frame->setStereoImage(frame->imageRaw(), frame->depthOrRightRaw(), model);
+    std::vector<rtabmap::StereoCameraModel> models = frame->stereoCameraModels();
+    for (rtabmap::StereoCameraModel& m : models) m.setLocalTransform(local);
+    frame->setStereoImage(frame->imageRaw(), frame->depthOrRightRaw(), models);
   } else if (d.rgb) {
     *error = "a monocular camera (subscribe_rgb) is not supported by the SLAM node: it needs depth or stereo";
     return std::nullopt;
@@ -102,7 +102,8 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
       return std::nullopt;
     }
   } else if (!d.rgbdImages.empty() || d.rgbdImagesMsg) {
-    // Several cameras side by side (rgbd_cameras N > 1 or 0), each placed by tf at its frame.
+    // Several cameras side by side (rgbd_cameras N > 1 or 0; all RGB-D or all stereo), each
+    // placed by tf at its frame.
     const auto poseOf = [&](const std::string& frameId, const ros::Time& stamp, std::string* why) {
       return syncedSensorPose(d, frameId, stamp, why);
     };

@@ -4,6 +4,8 @@
 
 #include <opencv2/core.hpp>
 
+#include <boost/make_shared.hpp>
+
 #include "rtabmap_conversions/RGBDImageConversions.h"
 #include "rtabmap_sync/FrameAssembly.h"
 
@@ -172,6 +174,70 @@ TEST(FrameAssembly, RgbdImageCheck) {
   msg.rgb_camera_info.P.fill(0.0);
   EXPECT_FALSE(checkRgbdImage(msg, &error));
   EXPECT_EQ(error.rfind("rgb_camera_info: ", 0), 0u) << error;
+}
+
+// What stereo_sync publishes for one camera: rgb = left, depth = right (mono8), the right info
+// with Tx = -fx * baseline.
+rtabmap_ros::RGBDImage stereoRgbdImage(const std::string& frame, double baseline, double stamp) {
+  rtabmap_ros::RGBDImage msg;
+  msg.header.frame_id = frame;
+  msg.header.stamp.fromSec(stamp);
+  msg.rgb = image(kW, kH, "bgr8", 3, stamp);
+  msg.depth = image(kW, kH, "mono8", 1, stamp);
+  msg.rgb_camera_info = info();
+  msg.depth_camera_info = info(kW, kH, -kFx * baseline);
+  return msg;
+}
+
+TEST(FrameAssembly, SeveralStereoCamerasBecomeOneFrameSideBySide) {
+  // rgbdx_sync's bundle of two stereo cameras (rgbd_cameras 0), then the same two cameras
+  // synchronised separately (rgbd_cameras 2): one frame, left images side by side, right images
+  // side by side, each camera placed by its own tf.
+  const rtabmap::Transform front = rtabmap::Transform(0.1, 0, 1.0, 0, 0, 0) * rtabmap::CameraModel::opticalRotation();
+  const rtabmap::Transform left = rtabmap::Transform(0, 0.1, 1.0, 0, 0, M_PI / 2) * rtabmap::CameraModel::opticalRotation();
+  const SensorPoseFn pose = [&](const std::string& frame, const ros::Time&, std::string* error) {
+    if (frame == "front_optical") return front;
+    if (frame == "left_optical") return left;
+    if (error) *error = "no tf to " + frame;
+    return rtabmap::Transform();
+  };
+  auto bundle = boost::make_shared<rtabmap_ros::RGBDImages>();
+  bundle->header.stamp.fromSec(4.0);
+  bundle->rgbd_images = {stereoRgbdImage("front_optical", 0.12, 4.0), stereoRgbdImage("left_optical", 0.2, 4.0)};
+  std::vector<rtabmap_ros::RGBDImageConstPtr> separate = {
+      boost::make_shared<rtabmap_ros::RGBDImage>(bundle->rgbd_images[0]),
+      boost::make_shared<rtabmap_ros::RGBDImage>(bundle->rgbd_images[1])};
+  for (bool bundled : {true, false}) {
+    SCOPED_TRACE(bundled ? "bundle" : "separate");
+    std::string error;
+    const std::optional<rtabmap::SensorData> f =
+        rgbdCamerasFrame(bundled ? bundle : nullptr, bundled ? std::vector<rtabmap_ros::RGBDImageConstPtr>() : separate,
+                         pose, &error);
+    ASSERT_TRUE(f.has_value()) << error;
+    ASSERT_TRUE(f->isStereo());
+    ASSERT_EQ(f->stereoCameraModels().size(), 2u);
+    EXPECT_EQ(f->imageRaw().size(), cv::Size(2 * kW, kH));
+    EXPECT_EQ(f->depthOrRightRaw().size(), cv::Size(2 * kW, kH));
+    EXPECT_EQ(f->depthOrRightRaw().type(), CV_8UC1);
+    EXPECT_EQ(f->stereoCameraModels()[0].localTransform(), front);
+    EXPECT_EQ(f->stereoCameraModels()[1].localTransform(), left);
+    EXPECT_NEAR(f->stereoCameraModels()[0].baseline(), 0.12, 1e-9);
+    EXPECT_NEAR(f->stereoCameraModels()[1].baseline(), 0.2, 1e-9);
+    EXPECT_DOUBLE_EQ(f->stamp(), 4.0);
+  }
+  // A camera whose tf is missing is named.
+  bundle->rgbd_images[1].header.frame_id = "rear_optical";
+  std::string error;
+  EXPECT_FALSE(rgbdCamerasFrame(bundle, {}, pose, &error).has_value());
+  EXPECT_NE(error.find("rear_optical"), std::string::npos) << error;
+  // Images of another size cannot sit side by side.
+  bundle->rgbd_images[1] = stereoRgbdImage("left_optical", 0.2, 4.0);
+  bundle->rgbd_images[1].depth = image(kW / 2, kH / 2, "mono8", 1);
+  bundle->rgbd_images[1].rgb = image(kW / 2, kH / 2, "bgr8", 3);
+  bundle->rgbd_images[1].rgb_camera_info = info(kW / 2, kH / 2);
+  bundle->rgbd_images[1].depth_camera_info = info(kW / 2, kH / 2, -kFx * 0.2);
+  EXPECT_FALSE(rgbdCamerasFrame(bundle, {}, pose, &error).has_value());
+  EXPECT_NE(error.find("camera 1 has images of another size"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -12,8 +12,9 @@
 // Features extracted upstream (odometry) ride along: key_points, points (3D, same count or
 // none) and descriptors (FeatureConversions.h).
 //
-// RGBDImages holds several RGB-D cameras; the core keeps them side by side in one SensorData
-// (images concatenated horizontally, one camera model each).
+// RGBDImages holds several RGB-D cameras, or several stereo cameras; the core keeps them side by
+// side in one SensorData (images concatenated horizontally, one camera model each; for stereo
+// the left images side by side and the right images side by side the same way).
 #include <rtabmap_ros/RGBDImage.h>
 #include <rtabmap_ros/RGBDImages.h>
 #include <std_msgs/Header.h>
@@ -50,12 +51,14 @@ std::optional<rtabmap::SensorData> rgbdImageFromMsg(const rtabmap_ros::RGBDImage
                                                     const rtabmap::Transform& localTransform,
                                                     std::string* error = nullptr);
 
-// One RGBDImage per camera model of `data` (RGB-D only); headers[i] for camera i.
+// One RGBDImage per camera model of `data` (RGB-D or stereo); headers[i] for camera i. For
+// stereo, options.rightFrameId applies to every camera.
 rtabmap_ros::RGBDImages rgbdImagesToMsg(const rtabmap::SensorData& data, const std_msgs::Header& header,
                                         const std::vector<std_msgs::Header>& cameraHeaders,
                                         const RGBDImageOptions& options = {});
-// localTransforms[i]: base -> optical frame of camera i. Cameras must be RGB-D with the same
-// image sizes; features are concatenated (keypoint x shifted by the camera's column offset).
+// localTransforms[i]: base -> optical frame of camera i. Cameras must be all RGB-D or all
+// stereo, with images of the same size and type (else the error says which camera differs);
+// features are concatenated (keypoint x shifted by the camera's column offset).
 std::optional<rtabmap::SensorData> rgbdImagesFromMsg(const rtabmap_ros::RGBDImages& msg,
                                                      const std::vector<rtabmap::Transform>& localTransforms,
                                                      std::string* error = nullptr);

@@ -86,7 +86,7 @@ void readSensorData(Connection& c, Signature& node, const LoadOptions& o) {
     const unsigned char* calibration = q->columnBlob(0, &size);
     blob::decodeCalibration(calibration, size, &cameras, &stereo);
     if (!stereo.empty()) {
-      data.setStereoImage(cv::Mat(), cv::Mat(), stereo.front());
+      data.setStereoImage(cv::Mat(), cv::Mat(), stereo);
     } else if (!cameras.empty()) {
       data.setRGBDImage(cv::Mat(), cv::Mat(), cameras);
     }

@@ -122,7 +122,7 @@ Signature filteredCopy(const Signature& node, const LoadOptions& o) {
     const cv::Mat image = o.image ? in.imageRaw() : cv::Mat();
     const cv::Mat depth = o.depthOrRight ? in.depthOrRightRaw() : cv::Mat();
     if (in.isStereo()) {
-      out.setStereoImage(image, depth, in.stereoCameraModels().front());
+      out.setStereoImage(image, depth, in.stereoCameraModels());
     } else {
       out.setRGBDImage(image, depth, in.cameraModels());
     }

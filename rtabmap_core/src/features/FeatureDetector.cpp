@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -76,6 +77,44 @@ void filterFeatures(ImageFeatures& f, Keep keep) {
   f.keypoints = std::move(k);
   f.points3D = std::move(p);
   f.descriptors = d;
+}
+
+// Camera i's columns [i*w, (i+1)*w) of side-by-side images. A copy, not a view: detectors,
+// descriptors and optical flow read pixels around the ROI of a view, which here would be the
+// neighbouring camera's.
+cv::Mat cameraColumns(const cv::Mat& image, int i, int w) { return image.colRange(i * w, (i + 1) * w).clone(); }
+
+// Each of n cameras keeps max / N keypoints (at least 1 each); 0 stays "no limit".
+int featuresPerCamera(int maxFeatures, int n) { return maxFeatures > 0 ? std::max(1, maxFeatures / n) : 0; }
+
+// Features of n side-by-side cameras of width w, camera i's from oneCamera(i, &why) in its own
+// sub-image coordinates: keypoints offset into the combined image, 3D points (already in the
+// base frame) and descriptors appended. A camera that fails (why set) costs its own features
+// only; the frame fails only when no camera gave any, with the last camera's reason.
+ImageFeatures mergeSideBySideCameras(int n, int w, FeatureExtractionInfo& info,
+                                     const std::function<ImageFeatures(int, std::string*)>& oneCamera) {
+  ImageFeatures all;
+  std::vector<cv::Mat> descriptors;
+  std::string lastProblem;
+  for (int i = 0; i < n; ++i) {
+    std::string why;
+    ImageFeatures f = oneCamera(i, &why);
+    if (!why.empty()) {
+      lastProblem = "camera " + std::to_string(i) + ": " + why;
+      continue;
+    }
+    for (cv::KeyPoint& k : f.keypoints) k.pt.x += static_cast<float>(i * w);
+    all.keypoints.insert(all.keypoints.end(), f.keypoints.begin(), f.keypoints.end());
+    all.points3D.insert(all.points3D.end(), f.points3D.begin(), f.points3D.end());
+    if (!f.descriptors.empty()) descriptors.push_back(f.descriptors);
+  }
+  if (all.keypoints.empty() && !lastProblem.empty()) {
+    info.problem = lastProblem;
+    return ImageFeatures();
+  }
+  if (!descriptors.empty()) cv::vconcat(descriptors, all.descriptors);
+  info.with3D = all.validPoints3D();
+  return all;
 }
 
 }  // namespace
@@ -173,47 +212,53 @@ ImageFeatures FeatureDetector::extract(const SensorData& data, FeatureExtraction
   if (options_.maxFeatures < 0) return features;  // Kp/MaxFeatures < 0: no features wanted
 
   const cv::Mat& depthOrRight = data.depthOrRightRaw();
-  cv::Mat rightGrey;
   if (data.isStereo()) {
-    const StereoCameraModel& model = data.stereoCameraModels().front();
-    if (data.stereoCameraModels().size() > 1) return problem("several stereo cameras are not supported");
-    if (!model.isValidForProjection()) {
-      return problem("stereo camera model not valid (fx " + std::to_string(model.left().fx()) + ", baseline " +
-                     std::to_string(model.baseline()) + ")");
-    }
     if (depthOrRight.empty()) return problem("stereo frame without its right image");
-    rightGrey = toGrey(depthOrRight);
+    const cv::Mat rightGrey = toGrey(depthOrRight);
     if (rightGrey.empty() || rightGrey.size() != grey.size()) {
       return problem("right image " + sizeText(depthOrRight.size()) + " (type " + std::to_string(depthOrRight.type()) +
                      ") does not match the left image " + sizeText(grey.size()));
     }
-  } else if (data.cameraModels().size() > 1) {
-    return extractSeveralCameras(data, grey, info);
-  } else {
-    const CameraModel* model = data.cameraModels().empty() ? nullptr : &data.cameraModels().front();
+    if (data.stereoCameraModels().size() > 1) return extractSeveralStereoCameras(data, grey, rightGrey, info);
     std::string why;
-    features = extractDepthCamera(grey, depthOrRight, model, options_.maxFeatures, info, &why);
+    features = extractStereoCamera(grey, rightGrey, data.stereoCameraModels().front(), options_.maxFeatures, info, &why);
     if (!why.empty()) return problem(why);
     info.with3D = features.validPoints3D();
     return features;
   }
+  if (data.cameraModels().size() > 1) return extractSeveralCameras(data, grey, info);
+  const CameraModel* model = data.cameraModels().empty() ? nullptr : &data.cameraModels().front();
+  std::string why;
+  features = extractDepthCamera(grey, depthOrRight, model, options_.maxFeatures, info, &why);
+  if (!why.empty()) return problem(why);
+  info.with3D = features.validPoints3D();
+  return features;
+}
 
-  // Stereo: 3D points by matching each left keypoint along its row of the right image.
+ImageFeatures FeatureDetector::extractStereoCamera(const cv::Mat& grey, const cv::Mat& rightGrey,
+                                                   const StereoCameraModel& model, int maxFeatures,
+                                                   FeatureExtractionInfo& info, std::string* problem) const {
+  ImageFeatures features;
+  if (!model.isValidForProjection()) {
+    *problem = "stereo camera model not valid (fx " + std::to_string(model.left().fx()) + ", baseline " +
+               std::to_string(model.baseline()) + ")";
+    return features;
+  }
+  // 3D points by matching each left keypoint along its row of the right image.
   Clock::time_point t0 = Clock::now();
-  features.keypoints = detectUpTo(grey, cv::Mat(), options_.maxFeatures);
-  info.detected = static_cast<int>(features.keypoints.size());
-  info.timeDetectionMs = msSince(t0);
+  features.keypoints = detectUpTo(grey, cv::Mat(), maxFeatures);
+  info.detected += static_cast<int>(features.keypoints.size());
+  info.timeDetectionMs += msSince(t0);
 
   t0 = Clock::now();
   features.descriptors = compute(grey, features.keypoints);
-  info.described = static_cast<int>(features.keypoints.size());
-  info.timeDescriptionMs = msSince(t0);
+  info.described += static_cast<int>(features.keypoints.size());
+  info.timeDescriptionMs += msSince(t0);
 
   t0 = Clock::now();
   std::vector<cv::Point2f> left;
   cv::KeyPoint::convert(features.keypoints, left);
   const std::vector<float> disparities = computeStereoDisparities(grey, rightGrey, left, options_.stereo);
-  const StereoCameraModel& model = data.stereoCameraModels().front();
   features.points3D = keypoints3DFromDisparities(features.keypoints, disparities, model);
   // Drop keypoints measured outside the depth range; keep those without disparity (their 2D
   // position still constrains a PnP estimate).
@@ -223,8 +268,7 @@ ImageFeatures FeatureDetector::extract(const SensorData& data, FeatureExtraction
     return (options_.minDepth <= 0.0f || depth >= options_.minDepth) &&
            (options_.maxDepth <= 0.0f || depth <= options_.maxDepth);
   });
-  info.with3D = features.validPoints3D();
-  info.time3DMs = msSince(t0);
+  info.time3DMs += msSince(t0);
   return features;
 }
 
@@ -298,49 +342,56 @@ ImageFeatures FeatureDetector::extractSeveralCameras(const SensorData& data, con
   const std::vector<CameraModel>& models = data.cameraModels();
   const int n = static_cast<int>(models.size());
   const cv::Mat& depth = data.depthOrRightRaw();
-  auto problem = [&](const std::string& text) {
-    info.problem = text;
-    return ImageFeatures();
-  };
   if (grey.cols % n != 0 || (!depth.empty() && depth.cols % n != 0)) {
-    return problem("image " + sizeText(grey.size()) + (depth.empty() ? "" : " or depth " + sizeText(depth.size())) +
-                   " does not split into " + std::to_string(n) + " side-by-side cameras of equal width");
+    info.problem = "image " + sizeText(grey.size()) + (depth.empty() ? "" : " or depth " + sizeText(depth.size())) +
+                   " does not split into " + std::to_string(n) + " side-by-side cameras of equal width";
+    return ImageFeatures();
   }
   for (int i = 0; i < n; ++i) {
     const CameraModel& m = models[static_cast<size_t>(i)];
     if (!m.isValidForProjection()) {
-      return problem("camera " + std::to_string(i) + " model not valid for projection (fx " + std::to_string(m.fx()) +
-                     ", fy " + std::to_string(m.fy()) + ")");
+      info.problem = "camera " + std::to_string(i) + " model not valid for projection (fx " + std::to_string(m.fx()) +
+                     ", fy " + std::to_string(m.fy()) + ")";
+      return ImageFeatures();
     }
   }
   const int w = grey.cols / n;
   const int dw = depth.cols / n;
-  // Per camera max / N (at least 1 each); 0 stays "no limit".
-  const int perCamera = options_.maxFeatures > 0 ? std::max(1, options_.maxFeatures / n) : 0;
-  ImageFeatures all;
-  std::vector<cv::Mat> descriptors;
-  std::string lastProblem;
-  for (int i = 0; i < n; ++i) {
+  const int perCamera = featuresPerCamera(options_.maxFeatures, n);
+  return mergeSideBySideCameras(n, w, info, [&](int i, std::string* why) {
     const cv::Mat subDepth = depth.empty() ? cv::Mat() : depth.colRange(i * dw, (i + 1) * dw);
-    std::string why;
-    // A copy, not a view: detectors and descriptors read pixels around the ROI of a view, which
-    // here would be the neighbouring camera's.
-    const cv::Mat subGrey = grey.colRange(i * w, (i + 1) * w).clone();
-    ImageFeatures f = extractDepthCamera(subGrey, subDepth, &models[static_cast<size_t>(i)], perCamera, info, &why);
-    // A camera facing the void (no valid depth in range) costs its own features only.
-    if (!why.empty()) {
-      lastProblem = "camera " + std::to_string(i) + ": " + why;
-      continue;
-    }
-    for (cv::KeyPoint& k : f.keypoints) k.pt.x += static_cast<float>(i * w);
-    all.keypoints.insert(all.keypoints.end(), f.keypoints.begin(), f.keypoints.end());
-    all.points3D.insert(all.points3D.end(), f.points3D.begin(), f.points3D.end());
-    if (!f.descriptors.empty()) descriptors.push_back(f.descriptors);
+    const CameraModel* model = &models[static_cast<size_t>(i)];
+    return extractDepthCamera(cameraColumns(grey, i, w), subDepth, model, perCamera, info, why);
+  });
+}
+
+ImageFeatures FeatureDetector::extractSeveralStereoCameras(const SensorData& data, const cv::Mat& grey,
+                                                           const cv::Mat& rightGrey,
+                                                           FeatureExtractionInfo& info) const {
+  const std::vector<StereoCameraModel>& models = data.stereoCameraModels();
+  const int n = static_cast<int>(models.size());
+  if (grey.cols % n != 0) {
+    info.problem = "stereo images " + sizeText(grey.size()) + " do not split into " + std::to_string(n) +
+                   " side-by-side stereo cameras of equal width";
+    return ImageFeatures();
   }
-  if (all.keypoints.empty() && !lastProblem.empty()) return problem(lastProblem);
-  if (!descriptors.empty()) cv::vconcat(descriptors, all.descriptors);
-  info.with3D = all.validPoints3D();
-  return all;
+  // An invalid model is a calibration error, not a camera facing the void: refuse the frame.
+  for (int i = 0; i < n; ++i) {
+    const StereoCameraModel& m = models[static_cast<size_t>(i)];
+    if (!m.isValidForProjection()) {
+      info.problem = "stereo camera " + std::to_string(i) + " model not valid (fx " + std::to_string(m.left().fx()) +
+                     ", baseline " + std::to_string(m.baseline()) + ")";
+      return ImageFeatures();
+    }
+  }
+  const int w = grey.cols / n;
+  const int perCamera = featuresPerCamera(options_.maxFeatures, n);
+  return mergeSideBySideCameras(n, w, info, [&](int i, std::string* why) {
+    // Each camera's left and right sub-images alone: a disparity search never crosses into the
+    // neighbouring camera's columns.
+    return extractStereoCamera(cameraColumns(grey, i, w), cameraColumns(rightGrey, i, w),
+                               models[static_cast<size_t>(i)], perCamera, info, why);
+  });
 }
 
 }  // namespace rtabmap

@@ -54,6 +54,12 @@ SensorData::SensorData(const cv::Mat& left, const cv::Mat& right, const StereoCa
   setStereoImage(left, right, model);
 }
 
+SensorData::SensorData(const cv::Mat& left, const cv::Mat& right,
+                       const std::vector<StereoCameraModel>& models, int id, double stamp)
+    : id_(id), stamp_(stamp) {
+  setStereoImage(left, right, models);
+}
+
 SensorData::SensorData(const LaserScan& scan, int id, double stamp)
     : id_(id), stamp_(stamp), laserScanRaw_(scan) {}
 
@@ -84,6 +90,11 @@ void SensorData::setRGBDImage(const cv::Mat& rgb, const cv::Mat& depth,
 
 void SensorData::setStereoImage(const cv::Mat& left, const cv::Mat& right,
                                 const StereoCameraModel& model) {
+  setStereoImage(left, right, std::vector<StereoCameraModel>{model});
+}
+
+void SensorData::setStereoImage(const cv::Mat& left, const cv::Mat& right,
+                                const std::vector<StereoCameraModel>& models) {
   if (!right.empty() && right.type() != CV_8UC1) {
     throw FormatError("SensorData: the right stereo image must be grey (CV_8UC1), got type " +
                       std::to_string(right.type()));
@@ -91,9 +102,15 @@ void SensorData::setStereoImage(const cv::Mat& left, const cv::Mat& right,
   if (!left.empty() && !right.empty() && left.size() != right.size()) {
     throw FormatError("SensorData: left and right stereo images differ in size");
   }
+  // Each camera owns an equal share of the columns of both images (see FeatureDetector).
+  const cv::Mat& image = left.empty() ? right : left;
+  if (!image.empty() && !models.empty() && image.cols % static_cast<int>(models.size()) != 0) {
+    throw FormatError("SensorData: stereo image width " + std::to_string(image.cols) +
+                      " is not a multiple of the " + std::to_string(models.size()) + " stereo cameras");
+  }
   imageRaw_ = left;
   depthOrRightRaw_ = right;
-  stereoCameraModels_ = {model};
+  stereoCameraModels_ = models;
   cameraModels_.clear();
   imageCompressed_.clear();
   depthOrRightCompressed_.clear();

@@ -142,6 +142,29 @@ cv::Mat depthFromStereo(const cv::Mat& left, const cv::Mat& right, const StereoC
   return depth;
 }
 
+cv::Mat depthFromStereoCameras(const cv::Mat& left, const cv::Mat& right, const std::vector<StereoCameraModel>& models,
+                               const StereoBMOptions& options) {
+  if (models.size() == 1) return depthFromStereo(left, right, models.front(), options);
+  const int n = static_cast<int>(models.size());
+  if (n == 0) throw FormatError("stereo pair: no camera model");
+  if (left.cols % n != 0 || right.cols % n != 0) {
+    throw FormatError("stereo images " + std::to_string(left.cols) + " and " + std::to_string(right.cols) +
+                      " pixels wide do not split into " + std::to_string(n) + " cameras of equal width");
+  }
+  const int w = left.cols / n;
+  const int rw = right.cols / n;
+  std::vector<cv::Mat> depths;
+  for (int i = 0; i < n; ++i) {
+    // Copies: block matching reads around a view's ROI, i.e. the neighbouring camera's pixels.
+    depths.push_back(depthFromStereo(left.colRange(i * w, (i + 1) * w).clone(),
+                                     right.colRange(i * rw, (i + 1) * rw).clone(), models[static_cast<size_t>(i)],
+                                     options));
+  }
+  cv::Mat depth;
+  cv::hconcat(depths, depth);
+  return depth;
+}
+
 Cloud cloudFromScan(const LaserScan& scan, const LocalGridOptions& options, int* invalidOut) {
   Cloud cloud;
   int invalid = 0;

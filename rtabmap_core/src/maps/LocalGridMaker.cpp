@@ -81,9 +81,9 @@ void cloudGrid(const SensorData& data, bool useDepth, bool useScan, const LocalG
     cv::Mat depth = data.depthOrRightRaw();
     std::vector<CameraModel> models = data.cameraModels();
     if (data.isStereo()) {
-      const StereoCameraModel& stereo = data.stereoCameraModels().front();
-      depth = depthFromStereo(data.imageRaw(), data.depthOrRightRaw(), stereo, o.stereo);
-      models = {stereo.left()};
+      depth = depthFromStereoCameras(data.imageRaw(), data.depthOrRightRaw(), data.stereoCameraModels(), o.stereo);
+      models.clear();
+      for (const StereoCameraModel& stereo : data.stereoCameraModels()) models.push_back(stereo.left());
       timer.lap("stereo block matching");
       source << "stereo";
     } else {

@@ -61,6 +61,52 @@ void severalCamerasOf(const SensorData& data, VisualFrame& f) {
   };
 }
 
+// Several stereo cameras side by side (left images, and right images the same way): every
+// left model (image size = its sub-image), and 3D of arbitrary image points by disparity in the
+// left and right sub-images of the camera under each point, through that camera's model.
+void severalStereoCamerasOf(const SensorData& data, VisualFrame& f, const StereoOptions& stereoOptions) {
+  const std::vector<StereoCameraModel> stereo = data.stereoCameraModels();
+  const int n = static_cast<int>(stereo.size());
+  const cv::Size imageSize = data.imageRaw().size();
+  const cv::Size cameraSize(imageSize.width / n, imageSize.height);
+  f.models.clear();
+  for (const StereoCameraModel& s : stereo) {
+    CameraModel m = s.left();
+    if (m.imageWidth() == 0 && cameraSize.width > 0) m.setImageSize(cameraSize);
+    f.models.push_back(m);
+  }
+  f.model = f.models.front();
+  f.stereoBaseline = stereo.front().baseline();
+  const cv::Mat right = greyOf(data.depthOrRightRaw());
+  const cv::Mat left = f.grey;
+  if (left.empty() || right.empty() || left.size() != right.size() || imageSize.width % n != 0) return;
+  const int w = cameraSize.width;
+  f.points3DAt = [left, right, stereo, stereoOptions, w](const std::vector<cv::KeyPoint>& kps) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::vector<cv::Point3f> out(kps.size(), cv::Point3f(nan, nan, nan));
+    for (int c = 0; c < static_cast<int>(stereo.size()); ++c) {
+      std::vector<cv::KeyPoint> local;
+      std::vector<size_t> index;
+      for (size_t k = 0; k < kps.size(); ++k) {
+        if (static_cast<int>(std::floor(kps[k].pt.x / static_cast<float>(w))) != c) continue;
+        local.push_back(kps[k]);
+        local.back().pt.x -= static_cast<float>(c * w);
+        index.push_back(k);
+      }
+      if (local.empty()) continue;
+      // Copies: optical flow reads around a view's ROI, i.e. the neighbouring camera's pixels.
+      const cv::Mat l = left.colRange(c * w, (c + 1) * w).clone();
+      const cv::Mat r = right.colRange(c * w, (c + 1) * w).clone();
+      std::vector<cv::Point2f> pts;
+      cv::KeyPoint::convert(local, pts);
+      const std::vector<cv::Point3f> p = keypoints3DFromDisparities(
+          local, computeStereoDisparities(l, r, pts, stereoOptions), stereo[static_cast<size_t>(c)]);
+      for (size_t j = 0; j < index.size(); ++j) out[index[j]] = p[j];
+    }
+    return out;
+  };
+}
+
 }  // namespace
 
 int VisualFrame::cameraWidth() const {
@@ -83,7 +129,9 @@ VisualFrame VisualFrame::fromSensorData(const SensorData& data, const ImageFeatu
   f.points3D = features.points3D;
   f.descriptors = features.descriptors;
   f.grey = greyOf(data.imageRaw());
-  if (data.isStereo()) {
+  if (data.stereoCameraModels().size() > 1) {
+    severalStereoCamerasOf(data, f, stereoOptions);
+  } else if (data.isStereo()) {
     const StereoCameraModel stereo = data.stereoCameraModels().front();
     f.model = stereo.left();
     f.stereoBaseline = stereo.baseline();

@@ -18,7 +18,7 @@ SensorData keepParts(const SensorData& in, const NodeDataParts& parts) {
   if (!parts.images) {
     // setRGBDImage / setStereoImage with no image keep the models and drop both forms.
     if (in.isStereo()) {
-      out.setStereoImage(cv::Mat(), cv::Mat(), in.stereoCameraModels().front());
+      out.setStereoImage(cv::Mat(), cv::Mat(), in.stereoCameraModels());
     } else {
       out.setRGBDImage(cv::Mat(), cv::Mat(), in.cameraModels());
     }

@@ -109,6 +109,54 @@ TEST(Database, RawSensorDataIsCompressedByTheWriter) {
   EXPECT_TRUE(sameMat(depth, loaded.sensorData().depthOrRightRaw()));
 }
 
+namespace {
+
+void expectSameStereoModels(const std::vector<StereoCameraModel>& expected,
+                            const std::vector<StereoCameraModel>& actual) {
+  ASSERT_EQ(expected.size(), actual.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    SCOPED_TRACE("stereo camera " + std::to_string(i));
+    EXPECT_DOUBLE_EQ(expected[i].left().fx(), actual[i].left().fx());
+    EXPECT_DOUBLE_EQ(expected[i].left().cx(), actual[i].left().cx());
+    EXPECT_DOUBLE_EQ(expected[i].left().cy(), actual[i].left().cy());
+    EXPECT_NEAR(expected[i].baseline(), actual[i].baseline(), 1e-12);
+    EXPECT_EQ(expected[i].left().imageSize(), actual[i].left().imageSize());
+    EXPECT_TRUE((expected[i].localTransform().inverse() * actual[i].localTransform()).isIdentity(1e-6))
+        << actual[i].localTransform().prettyPrint();
+  }
+}
+
+}  // namespace
+
+TEST(Database, SeveralStereoCamerasRoundTrip) {
+  TempDir dir;
+  Database::Options options;
+  options.imageFormat = ".png";  // lossless, to compare
+  Database db(dir.file("ltm.db"), options);
+  // Two stereo cameras of 24x24 side by side, different baselines and mountings.
+  const Transform front = Transform(0.1, 0.0, 1.0, 0.0, 0.0, 0.0) * CameraModel::opticalRotation();
+  const Transform left = Transform(0.0, 0.1, 1.0, 0.0, 0.0, M_PI / 2) * CameraModel::opticalRotation();
+  const std::vector<StereoCameraModel> models = {StereoCameraModel(30.0, 30.0, 11.5, 11.5, 0.12, front, cv::Size(24, 24)),
+                                                 StereoCameraModel(32.0, 32.0, 12.0, 11.0, 0.2, left, cv::Size(24, 24))};
+  const cv::Mat leftImages = randomMat(24, 48, CV_8UC3, 9);
+  const cv::Mat rightImages = randomMat(24, 48, CV_8UC1, 10);
+  Signature node(7, 0, 0, 1.0, "", Transform::Identity());
+  node.setSensorData(SensorData(leftImages, rightImages, models, 7, 1.0));
+  db.saveNode(node);
+  // Before the writer ran (the queued node), images without the right ones, then from the file.
+  LoadOptions leftOnly;
+  leftOnly.depthOrRight = false;
+  const Signature queued = *db.loadNode(7, leftOnly);
+  expectSameStereoModels(models, queued.sensorData().stereoCameraModels());
+  db.flush();
+  Signature loaded = *db.loadNode(7);
+  expectSameStereoModels(models, loaded.sensorData().stereoCameraModels());
+  loaded.sensorData().uncompress();
+  EXPECT_TRUE(sameMat(leftImages, loaded.sensorData().imageRaw()));
+  EXPECT_TRUE(sameMat(rightImages, loaded.sensorData().depthOrRightRaw()));
+  expectSameStereoModels(models, db.loadNode(7, leftOnly)->sensorData().stereoCameraModels());
+}
+
 TEST(Database, ResavingWithoutDataKeepsStoredData) {
   TempDir dir;
   Database db(dir.file("ltm.db"));

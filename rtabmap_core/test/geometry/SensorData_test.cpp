@@ -96,6 +96,23 @@ TEST(SensorData, Constructors) {
   EXPECT_NEAR(s.stereoCameraModels()[0].baseline(), 0.11, 1e-12);
   EXPECT_THROW(SensorData(left, cv::Mat(480, 752, CV_16UC1), stereo), FormatError);
 
+  // Several stereo cameras: left images side by side, right images the same way.
+  const cv::Mat lefts(480, 1504, CV_8UC3, cv::Scalar(10)), rights(480, 1504, CV_8UC1, cv::Scalar(20));
+  const SensorData two(lefts, rights, std::vector<StereoCameraModel>{stereo, stereo}, 3, 4.0);
+  EXPECT_TRUE(two.isStereo());
+  EXPECT_EQ(two.stereoCameraModels().size(), 2u);
+  EXPECT_TRUE(two.cameraModels().empty());
+  EXPECT_THROW(SensorData(cv::Mat(480, 1505, CV_8UC1), cv::Mat(480, 1505, CV_8UC1),
+                          std::vector<StereoCameraModel>{stereo, stereo}),
+               FormatError);
+  EXPECT_THROW(SensorData(lefts, right, std::vector<StereoCameraModel>{stereo, stereo}), FormatError);
+  // Models alone (a node loaded without its images), or the left images alone, are fine.
+  SensorData modelsOnly;
+  modelsOnly.setStereoImage(cv::Mat(), cv::Mat(), std::vector<StereoCameraModel>{stereo, stereo});
+  EXPECT_EQ(modelsOnly.stereoCameraModels().size(), 2u);
+  modelsOnly.setStereoImage(lefts, cv::Mat(), std::vector<StereoCameraModel>{stereo, stereo});
+  EXPECT_EQ(modelsOnly.imageRaw().cols, 1504);
+
   const LaserScan scan = makeScan();
   const SensorData l(scan, 5, 6.0);
   EXPECT_EQ(l.laserScanRaw().size(), 360);

@@ -47,10 +47,11 @@ std::optional<rtabmap::SensorData> stereoFrame(const sensor_msgs::Image& left, c
 // Images are not decoded (the consumer does), so this stays cheap.
 bool checkRgbdImage(const rtabmap_ros::RGBDImage& msg, std::string* error = nullptr);
 
-// Several RGB-D cameras side by side as one frame: `bundle` (rtabmap_ros/RGBDImages from
-// rgbdx_sync, rgbd_cameras 0) when set, else the synchronised `images` (rgbd_image0..N-1); each
-// camera placed on the robot by sensorPose(frame_id, stamp, error), the node's tf lookup. The
-// error says which lookup or which camera's images failed.
+// Several RGB-D cameras (or several stereo cameras, never mixed) side by side as one frame:
+// `bundle` (rtabmap_ros/RGBDImages from rgbdx_sync, rgbd_cameras 0) when set, else the
+// synchronised `images` (rgbd_image0..N-1); each camera placed on the robot by
+// sensorPose(frame_id, stamp, error), the node's tf lookup. The error says which lookup or which
+// camera's images failed.
 using SensorPoseFn = std::function<rtabmap::Transform(const std::string&, const ros::Time&, std::string*)>;
 std::optional<rtabmap::SensorData> rgbdCamerasFrame(const rtabmap_ros::RGBDImagesConstPtr& bundle,
                                                     const std::vector<rtabmap_ros::RGBDImageConstPtr>& images,

@@ -23,6 +23,11 @@
 // detectors' responses are not comparable between cameras (exposure, texture), so the
 // "strongest overall" would let the most textured view take everything and leave the others
 // unconstrained, which is what several cameras are there to avoid (same reason as the grid).
+//
+// Several stereo cameras (one StereoCameraModel per camera, left images side by side and right
+// images side by side the same way): the same split, each camera's keypoints matched for
+// disparity in its own right sub-image only (never across a camera boundary), and their 3D
+// points through its own model and local transform.
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 
@@ -38,6 +43,7 @@ namespace rtabmap {
 
 class CameraModel;
 class SensorData;
+class StereoCameraModel;
 
 // Values of Vis/FeatureType and Kp/DetectorStrategy (the original's numbering; 16 is ours).
 enum class FeatureType {
@@ -148,6 +154,12 @@ class FeatureDetector {
   ImageFeatures extractDepthCamera(const cv::Mat& grey, const cv::Mat& depth, const CameraModel* model,
                                    int maxFeatures, FeatureExtractionInfo& info, std::string* problem) const;
   ImageFeatures extractSeveralCameras(const SensorData& data, const cv::Mat& grey, FeatureExtractionInfo& info) const;
+  // Features of one rectified stereo camera (3D points by disparity along each keypoint's row);
+  // empty with *problem set when its model cannot project.
+  ImageFeatures extractStereoCamera(const cv::Mat& grey, const cv::Mat& rightGrey, const StereoCameraModel& model,
+                                    int maxFeatures, FeatureExtractionInfo& info, std::string* problem) const;
+  ImageFeatures extractSeveralStereoCameras(const SensorData& data, const cv::Mat& grey, const cv::Mat& rightGrey,
+                                            FeatureExtractionInfo& info) const;
 
   struct Impl;
   FeatureOptions options_;

@@ -53,8 +53,11 @@ class SensorData {
              double stamp = 0.0);
   SensorData(const cv::Mat& rgb, const cv::Mat& depth, const std::vector<CameraModel>& models,
              int id = 0, double stamp = 0.0);
-  // Rectified stereo (left may be colour or grey, right grey).
+  // Rectified stereo (left may be colour or grey, right grey). Several stereo cameras: left
+  // images side by side horizontally, right images side by side the same way, one model each.
   SensorData(const cv::Mat& left, const cv::Mat& right, const StereoCameraModel& model,
+             int id = 0, double stamp = 0.0);
+  SensorData(const cv::Mat& left, const cv::Mat& right, const std::vector<StereoCameraModel>& models,
              int id = 0, double stamp = 0.0);
   // Laser only.
   SensorData(const LaserScan& scan, int id = 0, double stamp = 0.0);
@@ -72,6 +75,10 @@ class SensorData {
   const cv::Mat& depthOrRightRaw() const { return depthOrRightRaw_; }
   void setRGBDImage(const cv::Mat& rgb, const cv::Mat& depth, const std::vector<CameraModel>& models);
   void setStereoImage(const cv::Mat& left, const cv::Mat& right, const StereoCameraModel& model);
+  // Throws FormatError when the right image is not grey, differs in size from the left, or
+  // (several cameras) the image width is not a multiple of the number of cameras. Images may be
+  // empty (models only, e.g. a node loaded without its images).
+  void setStereoImage(const cv::Mat& left, const cv::Mat& right, const std::vector<StereoCameraModel>& models);
   const std::vector<CameraModel>& cameraModels() const { return cameraModels_; }
   const std::vector<StereoCameraModel>& stereoCameraModels() const { return stereoCameraModels_; }
   bool isStereo() const { return !stereoCameraModels_.empty(); }

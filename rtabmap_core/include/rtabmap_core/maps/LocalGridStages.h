@@ -66,6 +66,14 @@ Cloud cloudFromDepth(const cv::Mat& depth, const cv::Mat& rgb, const std::vector
 // invalid StereoBM options.
 cv::Mat depthFromStereo(const cv::Mat& left, const cv::Mat& right, const StereoCameraModel& model,
                         const StereoBMOptions& options);
+// Several stereo cameras side by side (left images, and right images the same way, one model
+// each): each camera's depth by depthFromStereo on its own left and right sub-images (block
+// matching never crosses a camera boundary), side by side as for several RGB-D cameras, so
+// cloudFromDepth with the left models puts each camera's points through its local transform.
+// Throws FormatError when the width is not a multiple of the number of cameras, and as
+// depthFromStereo.
+cv::Mat depthFromStereoCameras(const cv::Mat& left, const cv::Mat& right, const std::vector<StereoCameraModel>& models,
+                               const StereoBMOptions& options);
 
 // ------------------------------------------------------------------ 3D scans
 // The points of a 3D scan in the base frame, Grid/ScanDecimation and range limits applied;

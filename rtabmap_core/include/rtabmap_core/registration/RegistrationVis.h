@@ -11,7 +11,7 @@
 //                    and averaged (Vis/ForwardEstOnly false)
 //   refinement       optional two-view bundle adjustment (Vis/BundleAdjustment 3)
 //
-// Several cameras (RGB-D images side by side, one CameraModel each, see FeatureDetector): the
+// Several cameras (RGB-D or stereo images side by side, one model each, see FeatureDetector): the
 // 3D points are all in the base frame, so descriptor matching is unchanged; guided matching
 // projects each reference point into every camera of the new frame (the first that sees it
 // wins, its u offset by i*w); optical flow keeps only tracks that stay in their camera's
