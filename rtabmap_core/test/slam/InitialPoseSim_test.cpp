@@ -129,9 +129,10 @@ TEST(InitialPoseSim, RobotPlacedByTheUserLocalisesThereByProximity) {
     EXPECT_LT(placed[k].pose.getDistance(placed[k].truth), 0.15) << "update " << k;
   }
   EXPECT_GE(firstLocalized, 0) << "never localised";
-  // Update 2 with the wheel odometry's neighbour links, 3 since they are refined by ICP (the
-  // map differs a little where the first proximity link is found).
-  EXPECT_LE(firstLocalized, 3);
+  // Update 2 with the wheel odometry's neighbour links, 3 since they are refined by ICP, 4 since
+  // the simulator's planner keeps a straight in S-bends (the map differs a little where the
+  // first proximity link is found; the errors before it are the same to the micrometre).
+  EXPECT_LE(firstLocalized, 4);
   EXPECT_LT(placed.back().pose.getDistance(placed.back().truth), 0.15);
   std::cout << "localization from a given pose: first localised at update " << firstLocalized << ", errors (m):";
   for (const Update& u : placed) std::cout << " " << u.pose.getDistance(u.truth) << (u.localized ? "*" : "");
