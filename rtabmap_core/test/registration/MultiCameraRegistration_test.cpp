@@ -12,48 +12,14 @@
 #include <vector>
 
 #include "MultiCameraScene.h"
+#include "SideBySideRegistration.h"
 #include "rtabmap_core/features/FeatureDetector.h"
 #include "rtabmap_core/odometry/Odometry.h"
 #include "rtabmap_core/registration/RegistrationVis.h"
 
 using namespace rtabmap;
 using namespace rtabmap::multicam_test;
-
-namespace {
-
-struct Result {
-  Transform transform;
-  RegistrationInfo info;
-  VisualCorrespondences details;
-};
-
-Result registerFrames(const SensorData& a, const SensorData& b, const ParametersMap& parameters,
-                      const Transform& guess = Transform()) {
-  const RegistrationVis reg(parameters);
-  const VisualFrame from = VisualFrame::fromSensorData(a, reg.detector().extract(a));
-  const VisualFrame to = VisualFrame::fromSensorData(b, reg.detector().extract(b));
-  Result r;
-  r.transform = reg.computeTransform(from, to, guess, &r.info, &r.details);
-  return r;
-}
-
-void expectNear(const Transform& actual, const Transform& expected, double metres, double radians) {
-  ASSERT_FALSE(actual.isNull());
-  const Transform e = expected.inverse() * actual;
-  EXPECT_LT(e.translation().norm(), metres) << "error " << e.prettyPrint();
-  EXPECT_LT(Eigen::AngleAxisd(e.toEigen().rotation()).angle(), radians) << "error " << e.prettyPrint();
-}
-
-// Inliers whose new-image position falls in camera 0 / camera 1.
-std::pair<int, int> inliersPerCamera(const Result& r, int cameraWidth) {
-  std::pair<int, int> n{0, 0};
-  for (int k : r.details.inliers) {
-    (r.details.toPoints[static_cast<size_t>(k)].x < cameraWidth ? n.first : n.second)++;
-  }
-  return n;
-}
-
-}  // namespace
+using namespace rtabmap::side_by_side_test;
 
 TEST(MultiCameraRegistration, RecoversTheMotionWithEveryStrategyAndBothCameras) {
   const auto world = room(sim::MaterialKind::kMarble, sim::MaterialKind::kConcrete);
