@@ -42,7 +42,9 @@ INFO_STATS = ("Timing/Total/ms", "Memory/Working_memory_size/", "Memory/Short_ti
               "Memory/Durable_node_id/", "Memory/Database_write_failed/", "Memory/Small_movement/",
               "Memory/Signatures_retrieved/", "Memory/RAM_usage/MB", "Memory/Local_graph_size/",
               "Memory/Heap_free/MB", "Memory/Database_memory_used/MB", "Memory/Grid_memory_used/MB",
-              "Memory/Grid_nodes_resident/", "Memory/Grid_nodes_read_back/", "Memory/Grid_nodes_in_layers/")
+              "Memory/Grid_nodes_resident/", "Memory/Grid_nodes_read_back/", "Memory/Grid_nodes_in_layers/",
+              "Memory/Locations_memory_used/MB", "Memory/Vocabulary_memory_used/MB", "Memory/Vocabulary_index_points/",
+              "Memory/RAM_estimated/MB", "Timing/Memory_release/ms")
 
 
 def log(message):

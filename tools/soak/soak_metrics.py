@@ -104,7 +104,11 @@ def stage_times(updates, span_s):
 
 MEMORY_STATS = (("heap in use (live data)", "Memory/RAM_usage/MB"), ("heap kept free by malloc", "Memory/Heap_free/MB"),
                 ("SQLite (page caches)", "Memory/Database_memory_used/MB"),
-                ("global grid (map, WM cells, LTM cache)", "Memory/Grid_memory_used/MB"))
+                ("global grid (map, WM cells, LTM cache)", "Memory/Grid_memory_used/MB"),
+                ("locations in RAM (STM, WM: words, compressed images, scans, local grids)",
+                 "Memory/Locations_memory_used/MB"),
+                ("vocabulary (words, kd-tree index with the removed words until its rebuild)",
+                 "Memory/Vocabulary_memory_used/MB"))
 
 
 def memory_breakdown(updates, reference_s, window_s=300.0):

@@ -1,4 +1,5 @@
 #include "rtabmap_core/memory/LoopClosureDetector.h"
+#include "rtabmap_core/memory/ProcessMemory.h"
 
 #include <chrono>
 #include <stdexcept>
@@ -53,6 +54,7 @@ LoopClosureUpdate LoopClosureDetector::process(const LocationInput& input, bool 
   std::set<int> immune;
   retrieveNeighbors(u.highest.id, u, immune);
   manageMemory(immune, msSince(start), vocabularyAtStart, u);
+  releaseFreedHeap();  // what this update freed goes back to the system (ProcessMemory.h)
   u.totalMs = msSince(start);
   return u;
 }

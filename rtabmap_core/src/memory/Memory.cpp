@@ -141,6 +141,12 @@ bool Memory::isBadSignature(int words) const {
   return words < options_.badSignRatio * (wordsSum_ / static_cast<double>(wordsLocations_));
 }
 
+size_t Memory::locationsMemoryUsed() const {
+  size_t bytes = 0;
+  for (const auto& entry : signatures_) bytes += entry.second.memoryUsed();
+  return bytes;
+}
+
 AddResult Memory::addLocation(const LocationInput& rawInput) {
   ++updateCounter_;
   LocationInput in = rawInput;

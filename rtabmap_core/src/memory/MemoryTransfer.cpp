@@ -1,13 +1,7 @@
 // Transfer to and retrieval from the Long-Term Memory (T-RO 2013, Algorithms 3 and 4).
 #include <opencv2/core.hpp>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <map>
 #include <stdexcept>
 
@@ -48,28 +42,6 @@ std::vector<int> Memory::transferCandidates(const std::set<int>& immune) const {
   return candidates;
 }
 
-namespace {
-
-// Locations leaving for the LTM free their images, scans, grids and words, but glibc keeps
-// freed memory in its arenas (one per thread that allocated: the SLAM update, the database
-// writer, the ROS callbacks) for reuse, fragmented by the long-lived allocations between: the
-// process's resident size then follows the largest it ever needed, not the Working Memory.
-// malloc_trim gives the free pages back. At most every few seconds: it walks every arena.
-void releaseFreedMemory() {
-#if defined(__GLIBC__)
-  using Clock = std::chrono::steady_clock;
-  static std::atomic<Clock::rep> last{0};
-  constexpr auto kPeriod = std::chrono::seconds(10);
-  const Clock::rep now = Clock::now().time_since_epoch().count();
-  Clock::rep previous = last.load();
-  if (now - previous < std::chrono::duration_cast<Clock::duration>(kPeriod).count()) return;
-  if (!last.compare_exchange_strong(previous, now)) return;  // another thread is trimming
-  malloc_trim(0);
-#endif
-}
-
-}  // namespace
-
 TransferResult Memory::transfer(const std::set<int>& immune, int minWordsRemoved, int maxWmSize, bool atLeastOne) {
   if (!ltm_) throw std::logic_error("Memory::transfer: no long-term memory (database) is attached");
   TransferResult result;
@@ -89,7 +61,6 @@ TransferResult Memory::transfer(const std::set<int>& immune, int minWordsRemoved
     result.transferred.push_back(id);
   }
   transferredTotal_ += static_cast<int>(result.transferred.size());
-  if (!result.transferred.empty()) releaseFreedMemory();
   return result;
 }
 

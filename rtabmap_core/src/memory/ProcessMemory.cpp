@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <string>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -19,6 +21,28 @@ HeapStats heapStats() {
   h.free = m.fordblks;
 #endif
   return h;
+}
+
+Resident residentMemory() {
+  Resident r;
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  const auto field = [&line](const char* key, size_t& out) {
+    const size_t n = std::strlen(key);
+    if (line.compare(0, n, key) == 0) out = static_cast<size_t>(std::stoull(line.substr(n))) * 1024;  // kB
+  };
+  while (std::getline(status, line)) {
+    field("VmRSS:", r.total);
+    field("RssAnon:", r.anon);
+    field("RssFile:", r.file);
+  }
+  return r;
+}
+
+void releaseFreedHeap() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
 }
 
 size_t sqliteInUse() { return static_cast<size_t>(sqlite3_memory_used()); }

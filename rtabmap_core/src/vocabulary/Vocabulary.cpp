@@ -209,6 +209,23 @@ void Vocabulary::indexWords(const std::vector<int>& ids) {
   index_->add(rows, ids);
 }
 
+size_t Vocabulary::memoryUsed() const {
+  // Container nodes counted as their payload plus two pointers and a hash; a cv::Mat row as its
+  // bytes plus OpenCV's shared block header (UMatData, about 100 bytes).
+  constexpr size_t kNode = 2 * sizeof(void*) + sizeof(size_t), kMatBlock = 100;
+  constexpr size_t kReference = 4 * sizeof(void*) + 2 * sizeof(int);  // std::map node
+  size_t bytes = words_.bucket_count() * sizeof(void*) + byDescriptor_.bucket_count() * sizeof(void*);
+  bytes += byDescriptor_.size() * (kNode + sizeof(uint64_t) + sizeof(int));
+  for (const auto& entry : words_) {
+    const VisualWord& w = entry.second;
+    bytes += kNode + sizeof(int) + sizeof(VisualWord) + kMatBlock + w.descriptor.total() * w.descriptor.elemSize();
+    bytes += w.references.size() * kReference;
+  }
+  return bytes + (index_ ? index_->memoryUsed() : 0);
+}
+
+size_t Vocabulary::indexPoints() const { return index_ ? index_->points() : 0; }
+
 void Vocabulary::addReference(int wordId, int locationId, int count) {
   auto it = words_.find(wordId);
   if (it == words_.end()) throw std::out_of_range("Vocabulary::addReference: unknown word " + std::to_string(wordId));

@@ -117,6 +117,16 @@ class FlannIndex : public Vocabulary::Index {
   size_t size() const override { return pointOfWord_.size(); }
   size_t points() const override { return wordOfPoint_.size(); }
   size_t builtSize() const override { return builtSize_; }
+  size_t memoryUsed() const override {
+    size_t bytes = index_ ? static_cast<size_t>(index_->usedMemory()) : 0;  // trees (node pools)
+    for (const cv::Mat& c : chunks_) bytes += c.total() * c.elemSize();
+    bytes += wordOfPoint_.size() * (sizeof(void*) + sizeof(size_t));  // FLANN's point and id tables
+    bytes += wordOfPoint_.capacity() * sizeof(int);
+    // A hash node (next pointer, key, value, cached hash) per word, and the bucket array.
+    bytes += pointOfWord_.size() * (sizeof(void*) + sizeof(int) + 2 * sizeof(size_t)) +
+             pointOfWord_.bucket_count() * sizeof(void*);
+    return bytes;
+  }
   bool built() const override { return index_ != nullptr; }
 
  private:

@@ -30,6 +30,7 @@ class Vocabulary::Index {
   // Points the index holds: its words plus the removed ones it still stores until a rebuild.
   virtual size_t points() const = 0;
   virtual size_t builtSize() const = 0;   // words at the last rebuild
+  virtual size_t memoryUsed() const = 0;  // bytes: rows, trees and the point <-> word tables
   virtual bool built() const = 0;
 
   // The index that suits the strategy and the descriptor type (CV_32F or CV_8U rows).

@@ -10,9 +10,11 @@
 #include <thread>
 
 #include "PoseOnlyFrames.h"
+#include "common/HeapHoles.h"
 #include "common/TestData.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/memory/ProcessMemory.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 
 namespace rtabmap {
@@ -74,6 +76,28 @@ TEST(Rtabmap, StillRobotAndRateAddNoNode) {
   EXPECT_TRUE(slam.process(frame(4, 12.0), along(0.01, 0.5), smallCov()));
   EXPECT_EQ(slam.summary().nodesAdded, 2);
   EXPECT_EQ(slam.statistics().refImageId, slam.lastNodeId());
+}
+
+// Issue 10 (the soak's memory goal): what an update frees (retrieved nodes, grids read back,
+// nodes transferred to the LTM) goes back to the system when the update ends, so the resident
+// size follows the live data. A frame the update skips costs no release (camera rates).
+TEST(Rtabmap, EachUpdateGivesTheHeapItFreedBack) {
+#if !defined(__GLIBC__)
+  GTEST_SKIP() << "the heap release is glibc's malloc_trim";
+#endif
+  if (memory::residentMemory().total == 0) GTEST_SKIP() << "no /proc/self/status here";
+  constexpr size_t kMb = 1024 * 1024;
+  Rtabmap slam;
+  slam.init({{"Rtabmap/DetectionRate", "1"}}, "");
+  ASSERT_TRUE(slam.process(frame(1, 10.0), along(0.0), smallCov()));
+  EXPECT_TRUE(slam.statistics().data().count(Statistics::kTimingMemory_release));
+  test::HeapHole hole(64 * kMb);
+  const size_t held = memory::residentMemory().anon;
+  EXPECT_FALSE(slam.process(frame(2, 10.1), along(1.0), smallCov()));  // under the detection rate
+  EXPECT_GE(memory::residentMemory().anon + 8 * kMb, held) << "a skipped frame released the heap";
+  ASSERT_TRUE(slam.process(frame(3, 11.0), along(1.0), smallCov()));
+  const size_t after = memory::residentMemory().anon;
+  EXPECT_LE(after + 48 * kMb, held) << "held " << held / kMb << " MB, after the update " << after / kMb;
 }
 
 TEST(Rtabmap, StampsGoingBackwardsAreRefusedUnlessOdometryRestarts) {

@@ -261,6 +261,34 @@ TEST(Vocabulary, RemovedWordsCountTowardsTheRebuild) {
   EXPECT_EQ(v.findWords(first.row(95))[0], ids[95]);
 }
 
+// The memory the statistics report (issue 10): the index keeps removed words' rows and tree
+// nodes until it is rebuilt, so between builds the vocabulary's memory follows the points held,
+// not the words; a rebuild gives the removed ones back.
+TEST(Vocabulary, MemoryFollowsTheIndexPointsUntilTheRebuild) {
+  Vocabulary v;
+  const size_t empty = v.memoryUsed();
+  auto ids = v.quantize(randomBinary(1000, 32, 31), 1);
+  ASSERT_EQ(v.size(), 1000u);
+  EXPECT_EQ(v.indexPoints(), 1000u);
+  const size_t built = v.memoryUsed();
+  // At least each word's descriptor and its bits as bytes in the kd-trees' rows.
+  EXPECT_GE(built - empty, 1000u * (32 + 256));
+  EXPECT_LT(built - empty, 1000u * 2048) << "more than 2 KB a binary word";
+  for (int i = 0; i < 600; ++i) v.removeWord(ids[i]);
+  EXPECT_EQ(v.size(), 400u);
+  EXPECT_EQ(v.indexPoints(), 1000u) << "removed words stay in the index until a rebuild";
+  const size_t removed = v.memoryUsed();
+  EXPECT_LT(removed, built);                        // their descriptors and references went
+  EXPECT_GT(removed - empty, 1000u * 256);          // their rows did not
+  v.quantize(randomBinary(1001, 32, 32), 2);        // 2001 points > 2 x 1000: rebuilt
+  ASSERT_EQ(v.summary().indexBuilds, 2);
+  EXPECT_EQ(v.indexPoints(), v.size());
+  EXPECT_EQ(v.size(), 1401u);
+  const size_t rebuilt = v.memoryUsed();
+  EXPECT_LT(rebuilt - empty, 1401u * 2048);
+  EXPECT_GE(rebuilt - empty, 1401u * (32 + 256));
+}
+
 // exactWord (the re-quantisation of words retrieved from LTM) is a lookup of the very bytes:
 // no index search, a one-bit difference is another descriptor, removed words are gone from it
 // and words put back are in it again.

@@ -11,6 +11,7 @@
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/eval/TrajectoryError.h"
 #include "rtabmap_core/maps/MapIO.h"
+#include "rtabmap_core/memory/ProcessMemory.h"
 
 namespace rtabmap::tools::dataset {
 namespace {
@@ -20,27 +21,6 @@ double percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
   const size_t i = static_cast<size_t>(std::round(p * static_cast<double>(v.size() - 1)));
   return v[std::min(i, v.size() - 1)];
-}
-
-// The process's resident size (MB), from /proc: all of it, anonymous (heap, arenas, mapped
-// blocks) and file-backed (code, mapped files); 0 where there is none.
-struct Resident {
-  double total = 0.0, anon = 0.0, file = 0.0;
-};
-Resident residentMb() {
-  Resident r;
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  auto field = [&line](const char* key, double& out) {
-    const size_t n = std::char_traits<char>::length(key);
-    if (line.compare(0, n, key) == 0) out = std::stod(line.substr(n)) / 1024.0;  // kB
-  };
-  while (std::getline(status, line)) {
-    field("VmRSS:", r.total);
-    field("RssAnon:", r.anon);
-    field("RssFile:", r.file);
-  }
-  return r;
 }
 
 }  // namespace
@@ -61,7 +41,8 @@ SlamStage::SlamStage(const RunOptions& run, const SlamRunOptions& options) : run
     updatesCsv_.open(run_.updatesCsv);
     if (!updatesCsv_) throw Error("cannot write " + run_.updatesCsv);
     updatesCsv_ << "node,nodes,wm,update_ms,map_assembling_ms,rss_mb,heap_mb,heap_free_mb,sqlite_mb,grid_mb,"
-                   "rss_anon_mb,rss_file_mb,grid_read_back\n";
+                   "rss_anon_mb,rss_file_mb,grid_read_back,words,memory_release_ms,"
+                   "locations_mb,vocabulary_mb,index_points\n";
   }
 }
 
@@ -89,12 +70,15 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
         auto it = d.find(key);
         return it == d.end() ? -1.0 : static_cast<double>(it->second);
       };
-      const Resident rss = residentMb();
+      constexpr double kMb = 1.0 / (1024.0 * 1024.0);
+      const memory::Resident rss = memory::residentMemory();
       updatesCsv_ << id << ',' << nodeStamps_.size() << ',' << get("Memory/Working_memory_size/") << ',' << ms << ','
-                  << get("Timing/Map_assembling/ms") << ',' << rss.total << ',' << get("Memory/RAM_usage/MB") << ','
+                  << get("Timing/Map_assembling/ms") << ',' << rss.total * kMb << ',' << get("Memory/RAM_usage/MB") << ','
                   << get("Memory/Heap_free/MB") << ',' << get("Memory/Database_memory_used/MB") << ','
-                  << get("Memory/Grid_memory_used/MB") << ',' << rss.anon << ',' << rss.file << ','
-                  << get("Memory/Grid_nodes_read_back/") << '\n';
+                  << get("Memory/Grid_memory_used/MB") << ',' << rss.anon * kMb << ',' << rss.file * kMb << ','
+                  << get("Memory/Grid_nodes_read_back/") << ',' << get("Keypoint/Dictionary_size/words") << ','
+                  << get("Timing/Memory_release/ms") << ',' << get("Memory/Locations_memory_used/MB") << ','
+                  << get("Memory/Vocabulary_memory_used/MB") << ',' << get("Memory/Vocabulary_index_points/") << '\n';
     }
   }
   if (rtabmap_.lastNodeId() > 0) frameRefs_.push_back({frame.stamp, rtabmap_.lastNodeId(), frame.pose});

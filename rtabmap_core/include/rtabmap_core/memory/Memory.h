@@ -177,6 +177,8 @@ class Memory {
   // WM ids with the update counter when each entered WM (its age for transfer).
   const std::map<int, long>& wm() const { return wm_; }
   bool inRam(int id) const { return signatures_.count(id) != 0; }
+  // Bytes the locations in RAM (STM and WM) hold, estimated (Signature::memoryUsed).
+  size_t locationsMemoryUsed() const;
   const vocabulary::Vocabulary& vocabulary() const { return vocabulary_; }
   // Words of the vocabulary known to be in the LTM already (not written again with the next
   // location that has them). Only words in RAM are tracked: a word that leaves the vocabulary

@@ -15,6 +15,14 @@ struct HeapStats {
   size_t inUse = 0, free = 0;
 };
 HeapStats heapStats();
+// The process's resident size (what the OS counts, /proc/self/status), in bytes: all of it,
+// anonymous (heap, arenas, mapped blocks) and file-backed (code, mapped files). Zeros where
+// /proc is not there.
+struct Resident {
+  size_t total = 0, anon = 0, file = 0;
+};
+Resident residentMemory();
+
 // Bytes SQLite holds: page caches of every connection, prepared statements, schemas.
 size_t sqliteInUse();
 
@@ -26,6 +34,15 @@ size_t sqliteInUse();
 // the run and malloc_trim cannot return it. The trim threshold is fixed too (glibc raises it with
 // the mmap threshold). Not applied where the user set them (MALLOC_MMAP_THRESHOLD_,
 // MALLOC_TRIM_THRESHOLD_, GLIBC_TUNABLES) nor elsewhere than glibc. Returns whether it applied.
+// Gives the free pages inside the heap back to the system (glibc's malloc_trim). Freed memory
+// stays resident otherwise: glibc keeps it for reuse and only ever returns the top of the heap,
+// while the long-lived allocations made meanwhile (words, links, grid tiles) pin what lies below.
+// An update frees far more than it keeps (retrieved nodes, local grids read back for a
+// re-assembly, the locations transferred to the LTM), so a trim once per update keeps the
+// resident size near the live data instead of near the largest update so far. It walks every
+// arena: a few ms on a heap of a few hundred MB. No-op elsewhere than glibc.
+void releaseFreedHeap();
+
 constexpr size_t kMmapThreshold = 128 * 1024;
 constexpr size_t kTrimThreshold = 4 * 1024 * 1024;
 bool configureAllocator();

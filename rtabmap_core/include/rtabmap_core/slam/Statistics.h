@@ -109,6 +109,7 @@
   X(Timing, Emptying_trash, ms)                     \
   X(Timing, Finalizing_statistics, ms)              \
   X(Timing, RAM_estimation, ms)                     \
+  X(Timing, Memory_release, ms)                     \
   X(Timing, Total, ms)                              \
   X(TimingMem, Pre_update, ms)                      \
   X(TimingMem, Signature_creation, ms)              \

@@ -112,6 +112,11 @@ class Vocabulary {
   int descriptorType() const { return descriptorType_; }  // -1 until the first descriptor
   int descriptorWidth() const { return descriptorWidth_; }
   const VocabularySummary& summary() const { return summary_; }
+  // Bytes held, estimated: the words (descriptors, references, hash) and the index (its rows,
+  // trees and the removed words it keeps until the next rebuild). Walks every word.
+  size_t memoryUsed() const;
+  // Points in the index: its words plus the removed ones it keeps until the next rebuild.
+  size_t indexPoints() const;
   const VocabularyOptions& options() const { return options_; }
 
   class Index;  // the nearest-neighbour index (FLANN), private to the implementation
