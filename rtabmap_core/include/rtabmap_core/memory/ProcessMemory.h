@@ -34,6 +34,10 @@ size_t sqliteInUse();
 // the run and malloc_trim cannot return it. The trim threshold is fixed too (glibc raises it with
 // the mmap threshold). Not applied where the user set them (MALLOC_MMAP_THRESHOLD_,
 // MALLOC_TRIM_THRESHOLD_, GLIBC_TUNABLES) nor elsewhere than glibc. Returns whether it applied.
+constexpr size_t kMmapThreshold = 128 * 1024;
+constexpr size_t kTrimThreshold = 4 * 1024 * 1024;
+bool configureAllocator();
+
 // Gives the free pages inside the heap back to the system (glibc's malloc_trim). Freed memory
 // stays resident otherwise: glibc keeps it for reuse and only ever returns the top of the heap,
 // while the long-lived allocations made meanwhile (words, links, grid tiles) pin what lies below.
@@ -42,9 +46,5 @@ size_t sqliteInUse();
 // resident size near the live data instead of near the largest update so far. It walks every
 // arena: a few ms on a heap of a few hundred MB. No-op elsewhere than glibc.
 void releaseFreedHeap();
-
-constexpr size_t kMmapThreshold = 128 * 1024;
-constexpr size_t kTrimThreshold = 4 * 1024 * 1024;
-bool configureAllocator();
 
 }  // namespace rtabmap::memory
