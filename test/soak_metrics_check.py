@@ -110,9 +110,24 @@ class SoakMetricsTest(unittest.TestCase):
     def test_yaw(self):
         self.assertAlmostEqual(m.yaw_of((0.0, 0.0, math.sin(0.3), math.cos(0.3))), 0.6)
 
+    def test_resident_kinds_compare_the_window_after_the_reference_with_the_last(self):
+        samples = [{"robot_s": t, "rss_kinds": {"rtabmap": {"anon": 100.0 + t / 60.0, "file": 50.0, "shmem": 0.0}}}
+                   for t in range(0, 3600, 60)]
+        samples.append({"robot_s": None, "rss_kinds": {"rtabmap": {"anon": 1e6, "file": 1e6, "shmem": 1e6}}})
+        rows = dict((k, (a, b)) for k, a, b in m.resident_kinds(samples, 1200.0, window_s=300.0)["rtabmap"])
+        self.assertAlmostEqual(rows["anon"][0], 122.0)  # t = 1200..1440: 120..124
+        self.assertAlmostEqual(rows["anon"][1], 157.0)  # t = 3300..3540: 155..159 (within 300 s of the last)
+        self.assertEqual(rows["file"], (50.0, 50.0))
+        self.assertEqual(m.resident_kinds(samples, 4000.0), {})  # nothing after the reference
+
     def test_sampling_reads_this_process(self):
         rss = m.rss_mb(os.getpid())
         self.assertGreater(rss, 1.0)
+        kinds = m.resident_kinds_mb(os.getpid())
+        self.assertGreater(kinds["anon"], 0.5)
+        self.assertGreater(kinds["file"], 0.5)
+        self.assertLessEqual(kinds["anon"] + kinds["file"] + kinds["shmem"], rss + 0.01)
+        self.assertIsNone(m.resident_kinds_mb(2 ** 22 + 1))
         self.assertIn(os.getpid(), m.children(os.getppid()))
         self.assertIsNone(m.rss_mb(2 ** 22 + 1))  # above the largest pid
 

@@ -9,7 +9,8 @@ management on, watching for leaks, slowdowns, crashes, drops and lost nodes.
   2. roscore on a free port, launch/soak.launch (the rtabmap node of demo_sim_robot.launch with
      Rtabmap/MemoryThr and Rtabmap/TimeThr set), `rosbag play --clock -r RATE`.
   3. While it plays: every --sample-period wall seconds, VmRSS of every node process of the
-     launch, the database size on disk and the simulated time; every `info` of the node.
+     launch (and its anonymous / file-backed split), the database size on disk and the
+     simulated time; every `info` of the node.
   4. After: the database checked (rtabmap-info --check), every node acknowledged durable
      (Memory/Durable_node_id) looked up in it; revisits from the ground truth; sync drops from
      the bag's frames; the goals checked; OUTPUT/report.md, report.json, plots.
@@ -153,13 +154,14 @@ class Watcher:
         return total
 
     def sample(self):
-        rss = {}
+        rss, kinds = {}, {}
         for pid in metrics.children(self.launch.process.pid):
             name = metrics.command_name(pid)
             mb = metrics.rss_mb(pid)
             if name is None or mb is None:
                 continue
             rss[name] = mb
+            kinds[name] = metrics.resident_kinds_mb(pid)
             self.pids.setdefault(name, [])
             if pid not in self.pids[name]:
                 self.pids[name].append(pid)
@@ -168,6 +170,7 @@ class Watcher:
             wm = self.updates[-1]["stats"].get("Memory/Working_memory_size/") if self.updates else None
             n = len(self.updates)
         self.samples.append({"wall": time.time(), "sim": now if now > 0 else None, "rss": rss,
+                             "rss_kinds": {n: k for n, k in kinds.items() if k is not None},
                              "db_bytes": self.database_bytes(), "wm": wm, "updates": n})
 
     def sample_loop(self):
@@ -273,6 +276,7 @@ def analyse(args, meta, recorded, database, run_log):
     figures["update_time_windows"] = metrics.windowed_update_times(updates, args.window)
     figures["stages"] = metrics.stage_times(updates, 1200.0)
     figures["memory_breakdown"] = metrics.memory_breakdown(updates, figures["rss_reference_robot_s"])
+    figures["resident_kinds"] = metrics.resident_kinds(samples, figures["rss_reference_robot_s"])
     wm = [u["stats"].get("Memory/Working_memory_size/", 0) for u in updates]
     figures["max_wm"] = int(max(wm)) if wm else 0
     # Crashes: roslaunch's reports, a node seen with a second pid, a node gone while playing.

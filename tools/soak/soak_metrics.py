@@ -33,6 +33,19 @@ def rss_mb(pid):
     return int(value.split()[0]) / 1024.0 if value else None
 
 
+def resident_kinds_mb(pid):
+    """The resident size of a process split by kind, in MB (RssAnon, RssFile, RssShmem of
+    /proc/<pid>/status): `anon` is the heap with its per-thread arenas, blocks malloc mmap()ed on
+    their own and stacks; `file` the pages of the executable, its libraries and mapped files
+    (code read in as it runs); `shmem` shared memory. None when the process is gone. What grows
+    in a leak is anon; a process touching more of its code grows file."""
+    status = read_status(pid)
+    keys = {"anon": "RssAnon", "file": "RssFile", "shmem": "RssShmem"}
+    if not all(k in status for k in keys.values()):
+        return None
+    return {kind: int(status[key].split()[0]) / 1024.0 for kind, key in keys.items()}
+
+
 def children(pid):
     """Direct children of a process (from the PPid of every /proc/<n>/status)."""
     out = []
@@ -126,6 +139,26 @@ def memory_breakdown(updates, reference_s, window_s=300.0):
         if a and b:
             rows.append((name, float(np.mean(a)), float(np.mean(b))))
     return rows
+
+
+def resident_kinds(samples, reference_s, window_s=300.0):
+    """Mean resident size by kind (resident_kinds_mb) per process over the first window after
+    the reference and over the last window of robot time: which kind grows.
+    samples: [{"robot_s", "rss_kinds": {name: {kind: MB}}}]. {name: [(kind, first_mb, last_mb)]}."""
+    names = sorted({n for s in samples for n in s.get("rss_kinds", {})})
+    timed = [s for s in samples if s.get("robot_s") is not None]
+    if not timed:
+        return {}
+    t1 = max(s["robot_s"] for s in timed)
+    out = {}
+    for name in names:
+        first = [s["rss_kinds"][name] for s in timed
+                 if name in s.get("rss_kinds", {}) and reference_s <= s["robot_s"] < reference_s + window_s]
+        last = [s["rss_kinds"][name] for s in timed if name in s.get("rss_kinds", {}) and t1 - s["robot_s"] < window_s]
+        if first and last:
+            out[name] = [(kind, float(np.mean([k[kind] for k in first])), float(np.mean([k[kind] for k in last])))
+                         for kind in ("anon", "file", "shmem")]
+    return out
 
 
 def wm_full_time(updates, memory_threshold):

@@ -190,6 +190,17 @@ def markdown(figures, checks):
         lines += ["| %s | %.1f | %.1f |" % tuple(row) for row in f["memory_breakdown"]]
         lines += ["", "The resident size is the heap in use and kept free, plus code, stacks and the allocator's "
                   "per-thread arenas."]
+    for name, rows in sorted(f.get("resident_kinds", {}).items()):
+        lines += ["", "## Resident size of %s by kind (/proc status): mean over the 5 min after the reference and "
+                  "the last 5 min" % name, "", "| kind | after the reference (MB) | last 5 min (MB) |", "|---|---|---|"]
+        labels = {"anon": "anonymous (heap, thread arenas, malloc's mmap()ed blocks, stacks)",
+                  "file": "file-backed (code of the executable and libraries, mapped files)", "shmem": "shared memory"}
+        lines += ["| %s | %.1f | %.1f |" % (labels.get(kind, kind), a, b) for kind, a, b in rows]
+        heap = dict((row[0], row[1:]) for row in f.get("memory_breakdown", [])).get("heap in use (live data)")
+        anon = dict((row[0], row[1:]) for row in rows).get("anon")
+        if heap and anon and name == "rtabmap":
+            lines.append("| anonymous beyond the heap in use (kept free by malloc and resident, stacks) | %.1f | %.1f |" %
+                         (anon[0] - heap[0], anon[1] - heap[1]))
     lines += ["", "![rss](rss.png)", "", "![update time](update_time.png)", "", "![wm](wm_size.png)", "",
               "![database](db_size.png)", "",
               "Files: `run.log` (roslaunch, the node, the tools), `report.json` (every figure), `rtabmap.db` (open "
