@@ -172,7 +172,7 @@ std::vector<int> Vocabulary::quantize(const cv::Mat& descriptors, int locationId
       insertWord(std::move(w));
       ++summary_.lastNewWords;
     }
-    if (ids[i]) words_.at(ids[i]).references[locationId] += 1;
+    if (ids[i]) countReference(words_.at(ids[i]), locationId, 1);
   }
   indexWords(newIds);
   summary_.words = static_cast<int>(words_.size());
@@ -209,19 +209,30 @@ void Vocabulary::indexWords(const std::vector<int>& ids) {
   index_->add(rows, ids);
 }
 
+// Every update's statistics ask for it: counted from sizes, not by walking the words (a walk of
+// 65k words was 7% of an update on the simulator's long run). Every word's descriptor has the
+// vocabulary's type and width (checkDescriptors), and references_ follows every reference added
+// or removed.
 size_t Vocabulary::memoryUsed() const {
   // Container nodes counted as their payload plus two pointers and a hash; a cv::Mat row as its
   // bytes plus OpenCV's shared block header (UMatData, about 100 bytes).
   constexpr size_t kNode = 2 * sizeof(void*) + sizeof(size_t), kMatBlock = 100;
   constexpr size_t kReference = 4 * sizeof(void*) + 2 * sizeof(int);  // std::map node
+  const size_t descriptorBytes =
+      descriptorType_ < 0 ? 0 : static_cast<size_t>(descriptorWidth_) * CV_ELEM_SIZE(descriptorType_);
   size_t bytes = words_.bucket_count() * sizeof(void*) + byDescriptor_.bucket_count() * sizeof(void*);
   bytes += byDescriptor_.size() * (kNode + sizeof(uint64_t) + sizeof(int));
-  for (const auto& entry : words_) {
-    const VisualWord& w = entry.second;
-    bytes += kNode + sizeof(int) + sizeof(VisualWord) + kMatBlock + w.descriptor.total() * w.descriptor.elemSize();
-    bytes += w.references.size() * kReference;
-  }
+  bytes += words_.size() * (kNode + sizeof(int) + sizeof(VisualWord) + kMatBlock + descriptorBytes);
+  bytes += references_ * kReference;
   return bytes + (index_ ? index_->memoryUsed() : 0);
+}
+
+size_t Vocabulary::referenceCount() const { return references_; }
+
+void Vocabulary::countReference(VisualWord& word, int locationId, int count) {
+  const auto [it, added] = word.references.try_emplace(locationId, 0);
+  it->second += count;
+  if (added) ++references_;
 }
 
 size_t Vocabulary::indexPoints() const { return index_ ? index_->points() : 0; }
@@ -229,13 +240,13 @@ size_t Vocabulary::indexPoints() const { return index_ ? index_->points() : 0; }
 void Vocabulary::addReference(int wordId, int locationId, int count) {
   auto it = words_.find(wordId);
   if (it == words_.end()) throw std::out_of_range("Vocabulary::addReference: unknown word " + std::to_string(wordId));
-  it->second.references[locationId] += count;
+  countReference(it->second, locationId, count);
 }
 
 void Vocabulary::removeReferences(int locationId, const std::multimap<int, int>& words) {
   for (auto it = words.begin(); it != words.end(); it = words.upper_bound(it->first)) {
     auto w = words_.find(it->first);
-    if (w != words_.end()) w->second.references.erase(locationId);
+    if (w != words_.end()) references_ -= w->second.references.erase(locationId);
   }
 }
 
@@ -253,6 +264,7 @@ VisualWord Vocabulary::removeWord(int wordId) {
   if (it == words_.end()) throw std::out_of_range("Vocabulary::removeWord: unknown word " + std::to_string(wordId));
   VisualWord w = std::move(it->second);
   words_.erase(it);
+  references_ -= w.references.size();
   auto range = byDescriptor_.equal_range(descriptorHash(w.descriptor));
   for (auto h = range.first; h != range.second; ++h) {
     if (h->second == wordId) {
@@ -303,6 +315,7 @@ uint64_t Vocabulary::descriptorHash(const cv::Mat& row) {
 void Vocabulary::insertWord(VisualWord word) {
   const int id = word.id;
   byDescriptor_.emplace(descriptorHash(word.descriptor), id);
+  references_ += word.references.size();
   words_.emplace(id, std::move(word));
 }
 

@@ -289,6 +289,42 @@ TEST(Vocabulary, MemoryFollowsTheIndexPointsUntilTheRebuild) {
   EXPECT_GE(rebuilt - empty, 1401u * (32 + 256));
 }
 
+// memoryUsed() counts the references from a running total (it runs every update): the total must
+// follow every way a reference comes and goes, equal to the count over the words at each step.
+TEST(Vocabulary, ReferenceCountFollowsEveryChange) {
+  Vocabulary v;
+  const auto walk = [&v] {
+    size_t n = 0;
+    for (const auto& entry : v.words()) n += entry.second.references.size();
+    return n;
+  };
+  const cv::Mat d = randomBinary(300, 32, 41);
+  const auto ids1 = v.quantize(d, 1);
+  v.quantize(d.rowRange(0, 120), 2);  // the same descriptors: the same words, a second location
+  ASSERT_EQ(v.referenceCount(), walk());
+  EXPECT_EQ(v.referenceCount(), 420u);
+  v.addReference(ids1[0], 1, 3);  // one more occurrence: no new reference
+  v.addReference(ids1[0], 9, 1);  // another location: one
+  EXPECT_EQ(v.referenceCount(), 421u);
+  std::multimap<int, int> words2;
+  for (int i = 0; i < 120; ++i) words2.emplace(ids1[i], i);
+  v.removeReferences(2, words2);
+  EXPECT_EQ(v.referenceCount(), walk());
+  EXPECT_EQ(v.referenceCount(), 301u);
+  const size_t before = v.memoryUsed();
+  VisualWord out = v.removeWord(ids1[0]);  // two references leave with it
+  EXPECT_EQ(v.referenceCount(), 299u);
+  const size_t removed = v.memoryUsed();
+  EXPECT_LT(removed, before);
+  v.addWord(std::move(out));  // and come back with it
+  EXPECT_EQ(v.referenceCount(), 301u);
+  EXPECT_EQ(v.referenceCount(), walk());
+  // Back above `before`: the word is back, in a new index point, and its old point stays in the
+  // index until the next rebuild.
+  EXPECT_GT(v.memoryUsed(), before);
+  EXPECT_EQ(v.indexPoints(), 301u);
+}
+
 // exactWord (the re-quantisation of words retrieved from LTM) is a lookup of the very bytes:
 // no index search, a one-bit difference is another descriptor, removed words are gone from it
 // and words put back are in it again.

@@ -113,8 +113,10 @@ class Vocabulary {
   int descriptorWidth() const { return descriptorWidth_; }
   const VocabularySummary& summary() const { return summary_; }
   // Bytes held, estimated: the words (descriptors, references, hash) and the index (its rows,
-  // trees and the removed words it keeps until the next rebuild). Walks every word.
+  // trees and the removed words it keeps until the next rebuild). Constant time.
   size_t memoryUsed() const;
+  // (location, word) references over all words: the inverted index's entries.
+  size_t referenceCount() const;
   // Points in the index: its words plus the removed ones it keeps until the next rebuild.
   size_t indexPoints() const;
   const VocabularyOptions& options() const { return options_; }
@@ -129,6 +131,8 @@ class Vocabulary {
   bool passesRatio(const Match& m) const;
 
   void insertWord(VisualWord word);
+  // Adds count occurrences of the word in the location, keeping references_ right.
+  void countReference(VisualWord& word, int locationId, int count);
   static uint64_t descriptorHash(const cv::Mat& row);
 
   VocabularyOptions options_;
@@ -138,6 +142,7 @@ class Vocabulary {
   int lastWordId_ = 0;
   int descriptorType_ = -1;
   int descriptorWidth_ = 0;
+  size_t references_ = 0;  // sum of every word's references.size(), for memoryUsed()
   mutable VocabularySummary summary_;  // mutable: the const searches count themselves
 };
 
