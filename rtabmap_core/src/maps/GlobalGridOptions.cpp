@@ -18,6 +18,7 @@ GlobalGridOptions GlobalGridOptions::fromParameters(const ParametersMap& p) {
   o.occupancyThr = Parameters::getFloat(p, Parameters::kGridGlobalOccupancyThr());
   o.fullUpdate = Parameters::getBool(p, Parameters::kGridGlobalFullUpdate());
   o.updateError = Parameters::getFloat(p, Parameters::kGridGlobalUpdateError());
+  o.reassemblyInterval = Parameters::getInt(p, Parameters::kGridGlobalReassemblyInterval());
   o.footprintRadius = Parameters::getFloat(p, Parameters::kGridGlobalFootprintRadius());
   o.eroded = Parameters::getBool(p, Parameters::kGridGlobalEroded());
   o.maxNodes = Parameters::getInt(p, Parameters::kGridGlobalMaxNodes());
@@ -53,6 +54,8 @@ bool GlobalGridOptions::IsValid(std::string* why) const {
       r << "GridGlobal/UpdateError must be >= 0 (got " << updateError << ")";
     } else if (!(std::isfinite(footprintRadius) && footprintRadius >= 0.0f)) {
       r << "GridGlobal/FootprintRadius must be >= 0 (got " << footprintRadius << ")";
+    } else if (reassemblyInterval < 1) {
+      r << "GridGlobal/ReassemblyInterval must be >= 1 update (got " << reassemblyInterval << ")";
     } else if (maxNodes < 0) {
       r << "GridGlobal/MaxNodes must be >= 0 (got " << maxNodes << ")";
     } else if (!(std::isfinite(altitudeDelta) && altitudeDelta >= 0.0f)) {

@@ -113,6 +113,7 @@ class OccupancyGrid::Impl {
   double nsFull = kPriorNsPerUnit, nsRegion = kPriorNsPerUnit, nsLoad = kPriorNsPerLoadedCell;
   int fullRuns = 0, regionRuns = 0, loadRuns = 0;
   Path forced = Path::kNone;
+  int deferred = 0;  // updates whose graph changes wait (GridGlobal/ReassemblyInterval)
   OccupancyGrid::GridLoader loader;
   size_t resident = 0;  // cached nodes with their cells in RAM
   double loadCpuNs = 0.0;  // thread CPU time spent reading cells back in this update
@@ -204,7 +205,12 @@ class OccupancyGrid::Impl {
   }
 
   bool appendOnly(const std::map<int, Transform>& poses, std::vector<int>& appended, int& withoutGrid) const;
-  GridUpdateSummary update(const std::map<int, Transform>& poses);
+  // The nodes of `poses` after the last assembled one that can be appended (a usable pose and a
+  // cached grid), in id order.
+  void newAfterLast(const std::map<int, Transform>& poses, std::vector<int>& appended, int& withoutGrid) const;
+  // Applies new nodes on top of the map, the last in the update order (the incremental path).
+  void appendNodes(const std::vector<int>& ids, const std::map<int, Transform>& poses, GridUpdateSummary& s);
+  GridUpdateSummary update(const std::map<int, Transform>& poses, bool allowDeferral);
   // Re-assembles the dirty tiles: each starts from its layer (or unknown), the evicted nodes not
   // in it yet are applied and the result becomes its layer, then the other nodes. `replay`: the
   // nodes (id order) with a dirty tile they write in; `retiled`: those whose tiles to record.
@@ -317,6 +323,7 @@ bool OccupancyGrid::Impl::appendOnly(const std::map<int, Transform>& poses, std:
   for (const auto& [id, pose] : poses) {
     if (a != assembled.end() && a->first < id) return false;  // an assembled node left the graph
     if (a != assembled.end() && a->first == id) {
+      if (!cache.count(id)) return false;  // its grid was removed: it leaves the map
       // Same pose to the bit (nodes out of the optimised local map: most), else diffGraph's test.
       if (!(a->second == pose) && (pose.isNull() || pose.isInvalid() ||
                                    maps_detail::cellDisplacement(a->second, pose, cache.at(id).radius) > o.updateError)) {
@@ -336,34 +343,75 @@ bool OccupancyGrid::Impl::appendOnly(const std::map<int, Transform>& poses, std:
   return a == assembled.end();
 }
 
-GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& poses) {
+void OccupancyGrid::Impl::newAfterLast(const std::map<int, Transform>& poses, std::vector<int>& appended,
+                                       int& withoutGrid) const {
+  auto it = assembled.empty() ? poses.begin() : poses.upper_bound(assembled.rbegin()->first);
+  for (; it != poses.end(); ++it) {
+    if (it->second.isNull() || it->second.isInvalid()) continue;  // ignored as absent
+    if (!cache.count(it->first)) {
+      ++withoutGrid;
+      continue;
+    }
+    appended.push_back(it->first);
+  }
+}
+
+void OccupancyGrid::Impl::appendNodes(const std::vector<int>& ids, const std::map<int, Transform>& poses,
+                                      GridUpdateSummary& s) {
+  restamp(ids);
+  CellBox need;
+  for (int id : ids) need.unite(nodeBox(id, poses.at(id)));
+  storage.ensureCovers(need);
+  std::vector<int64_t> tiles;
+  withCells(ids, s, [&](int id, const NodeCells& n) {
+    const Transform& pose = poses.at(id);
+    s.cellUpdates += storage.apply(n, pose, false, &tiles);
+    tilesOf[id] = tiles;
+    storage.addFootprint(pose, o.footprintRadius, +1);
+    assembled.emplace_hint(assembled.end(), id, pose);
+  });
+  s.nodesAdded = static_cast<int>(ids.size());
+}
+
+GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& poses, bool allowDeferral) {
   const auto start = std::chrono::steady_clock::now();
   GridUpdateSummary s;
   rememberedNow = 0;
   std::vector<int> fresh;
   int withoutGrid = 0;
-  if (appendOnly(poses, fresh, withoutGrid)) {
-    // Incremental: new nodes come last in the update order.
-    restamp(fresh);
-    CellBox need;
-    for (int id : fresh) need.unite(nodeBox(id, poses.at(id)));
-    storage.ensureCovers(need);
-    std::vector<int64_t> tiles;
-    withCells(fresh, s, [&](int id, const NodeCells& n) {
-      const Transform& pose = poses.at(id);
-      s.cellUpdates += storage.apply(n, pose, false, &tiles);
-      tilesOf[id] = tiles;
-      storage.addFootprint(pose, o.footprintRadius, +1);
-      assembled.emplace_hint(assembled.end(), id, pose);
-    });
-    s.path = fresh.empty() ? Path::kNone : Path::kIncremental;
-    s.why = fresh.empty() ? "nothing changed" : std::to_string(fresh.size()) + " new node(s) appended";
-    s.nodesAdded = static_cast<int>(fresh.size());
+  auto finish = [&] {
     s.nodesWithoutGrid = withoutGrid;
     s.nodesInGraph = s.nodesAssembled = static_cast<int>(assembled.size());
     s.timeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return s;
+  };
+  if (appendOnly(poses, fresh, withoutGrid)) {
+    // Incremental: new nodes come last in the update order. Nothing else differs from the
+    // graph, so nothing waits either (changes that were deferred have been undone).
+    deferred = 0;
+    appendNodes(fresh, poses, s);
+    s.path = fresh.empty() ? Path::kNone : Path::kIncremental;
+    s.why = fresh.empty() ? "nothing changed" : std::to_string(fresh.size()) + " new node(s) appended";
+    return finish();
   }
+  // Deferred re-assembly (see OccupancyGrid.h): the moved nodes keep the pose they are assembled
+  // at, so the next update's difference holds this one's changes too. Not with MaxNodes or
+  // AltitudeDelta, whose selection changes with every new node.
+  if (allowDeferral && deferred + 1 < o.reassemblyInterval && forced == Path::kNone && o.maxNodes == 0 &&
+      o.altitudeDelta <= 0.0f) {
+    ++deferred;
+    fresh.clear();
+    withoutGrid = 0;
+    newAfterLast(poses, fresh, withoutGrid);
+    appendNodes(fresh, poses, s);
+    s.path = fresh.empty() ? Path::kNone : Path::kIncremental;
+    s.updatesDeferred = deferred;
+    s.why = std::to_string(fresh.size()) + " new node(s) appended; the graph's other changes wait (" +
+            std::to_string(deferred) + " update(s) of GridGlobal/ReassemblyInterval " +
+            std::to_string(o.reassemblyInterval) + ")";
+    return finish();
+  }
+  deferred = 0;
   const maps_detail::GraphChanges ch = maps_detail::diffGraph(
       poses, assembled, [this](int id) { return cache.count(id) > 0; },
       [this](int id) { return cache.at(id).radius; }, o.updateError, replaced, o.maxNodes, o.altitudeDelta);
@@ -645,7 +693,10 @@ bool OccupancyGrid::evictLocalGrid(int nodeId) {
   if (n.layerKey == maps_detail::kInWorkingMemory) n.layerKey = ++impl_->evictions;
   return true;
 }
-GridUpdateSummary OccupancyGrid::update(const std::map<int, Transform>& poses) { return impl_->update(poses); }
+GridUpdateSummary OccupancyGrid::update(const std::map<int, Transform>& poses, bool allowDeferral) {
+  return impl_->update(poses, allowDeferral);
+}
+int OccupancyGrid::pendingUpdates() const { return impl_->deferred; }
 void OccupancyGrid::forceNextPath(GridUpdateSummary::Path path) { impl_->forced = path; }
 
 GridMap OccupancyGrid::map() const {

@@ -116,6 +116,13 @@ struct Rtabmap::Impl {
   bool mappingUpdate(const SensorData& data, const Transform& odom);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
+  // The robot stands still, no update comes: graph changes the global grid deferred
+  // (GridGlobal/ReassemblyInterval) are assembled now rather than at the next node.
+  void assembleDeferredGrid() {
+    if (!grid || grid->pendingUpdates() == 0) return;
+    StageTimer t(stats, Statistics::kTimingMap_assembling);
+    grid->update(graph.posesOfGroup(mapId), false);
+  }
   // The global grid drops the cells of the nodes that left for the LTM (read back on demand).
   void evictTransferredGrids(const memory::LoopClosureUpdate& u) {
     if (grid) {

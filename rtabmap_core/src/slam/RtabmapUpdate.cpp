@@ -120,6 +120,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     // The robot stayed: the previous node was rehearsed (weight) if it looked the same; the
     // frame adds nothing to the map.
     ++summary.skippedStill;
+    assembleDeferredGrid();
     if (!added.merged) {
       memory.removeLastLocation();
       return false;
@@ -232,6 +233,12 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
       stats.addStatistic("Memory/Grid_nodes_in_layers/", static_cast<float>(g.nodesInLayers));
       stats.addStatistic("Memory/Grid_nodes_not_read_back/", static_cast<float>(g.nodesNotLoaded));
       stats.addStatistic("Timing/Grid_read_back/ms", static_cast<float>(g.loadMs));
+      // What the assembly did, to tell a re-assembly's cost from its cause (moved nodes).
+      stats.addStatistic("Memory/Grid_path/", static_cast<float>(g.path));
+      stats.addStatistic("Memory/Grid_updates_deferred/", static_cast<float>(g.updatesDeferred));
+      stats.addStatistic("Memory/Grid_nodes_moved/", static_cast<float>(g.nodesMoved));
+      stats.addStatistic("Memory/Grid_nodes_replayed/", static_cast<float>(g.nodesReplayed));
+      stats.addStatistic("Memory/Grid_cell_updates/", static_cast<float>(g.cellUpdates));
     }
   } else if (u.highest.accepted && !newLinks.empty()) {
     ++summary.loopClosures;

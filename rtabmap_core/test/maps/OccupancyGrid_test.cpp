@@ -446,6 +446,15 @@ TEST(OccupancyGrid, InvalidOptionsAreParameterErrorsNamingTheKey) {
     }
     EXPECT_THROW(LocalGridOptions::fromParameters({{"Grid/CellSize", bad}}), ParameterError);
   }
+  for (const char* bad : {"0", "-2"}) {
+    try {
+      GlobalGridOptions::fromParameters({{"GridGlobal/ReassemblyInterval", bad}}).validate();
+      FAIL() << bad;
+    } catch (const ParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find("GridGlobal/ReassemblyInterval"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(GlobalGridOptions::fromParameters({{"GridGlobal/ReassemblyInterval", "4"}}).reassemblyInterval, 4);
   const GlobalGridOptions fromDefaults = GlobalGridOptions::fromParameters({});
   EXPECT_TRUE(fromDefaults.IsValid());
   EXPECT_FLOAT_EQ(fromDefaults.probHit, 0.7f);
@@ -722,4 +731,122 @@ TEST(OccupancyGrid, LongTermMemoryLayersSpareReadingOldNodesBackAndKeepTheMap) {
       EXPECT_LT(layered.memoryUsed(), inRam.memoryUsed());
     }
   }
+}
+
+namespace {
+
+// A grid of `run`'s nodes given at `poses` (ids absent from it are left out), assembled at once.
+GridMap freshMap(const ScanRun& run, const std::map<int, Transform>& poses) {
+  OccupancyGrid fresh(options());
+  for (const auto& [id, pose] : poses) fresh.addLocalGrid(id, run.grids.at(id));
+  fresh.update(poses);
+  return fresh.map();
+}
+
+}  // namespace
+
+// GridGlobal/ReassemblyInterval: graph changes wait, and add up, for N - 1 updates while new
+// nodes are appended; the N-th update gives exactly the map of the last graph.
+TEST(OccupancyGrid, DeferredReassemblyAddsChangesUpAndEndsOnTheMapOfTheLastGraph) {
+  const ScanRun run = corridorRun(30);
+  GlobalGridOptions o = options();
+  o.reassemblyInterval = 3;
+  OccupancyGrid grid(o);
+  std::map<int, Transform> graph;
+  for (int id = 1; id <= 20; ++id) {
+    ASSERT_TRUE(grid.addLocalGrid(id, run.grids.at(id)));
+    graph[id] = run.poses.at(id);
+    EXPECT_EQ(grid.update(graph).updatesDeferred, 0);  // appending never waits
+  }
+  const std::map<int, Transform> before = graph;
+  // A loop closure moves nodes 15-20; node 21 comes.
+  grid.addLocalGrid(21, run.grids.at(21));
+  graph[21] = run.poses.at(21);
+  for (int id = 15; id <= 20; ++id) graph[id] = Transform(0, 0.3, 0) * run.poses.at(id);
+  GridUpdateSummary s = grid.update(graph);
+  EXPECT_EQ(s.updatesDeferred, 1) << s.why;
+  EXPECT_EQ(grid.pendingUpdates(), 1);
+  EXPECT_EQ(s.path, Path::kIncremental);
+  EXPECT_EQ(s.nodesAdded, 1);
+  EXPECT_EQ(s.nodesReplayed, 0);
+  std::map<int, Transform> shown = before;  // the moved nodes where they were, 21 on top
+  shown[21] = graph[21];
+  expectSameMap(freshMap(run, shown), grid.map());
+  for (int id = 15; id <= 20; ++id) EXPECT_TRUE(grid.assembledPoses().at(id) == before.at(id)) << id;
+
+  // The next correction moves them further and drops node 3; node 22 comes.
+  grid.addLocalGrid(22, run.grids.at(22));
+  graph[22] = run.poses.at(22);
+  for (int id = 15; id <= 20; ++id) graph[id] = Transform(0, 0.5, 0.05) * run.poses.at(id);
+  graph.erase(3);
+  s = grid.update(graph);
+  EXPECT_EQ(s.updatesDeferred, 2) << s.why;
+  EXPECT_EQ(s.nodesAdded, 1);
+
+  // The third update re-assembles both corrections together.
+  grid.addLocalGrid(23, run.grids.at(23));
+  graph[23] = run.poses.at(23);
+  s = grid.update(graph);
+  EXPECT_EQ(s.updatesDeferred, 0) << s.why;
+  EXPECT_EQ(grid.pendingUpdates(), 0);
+  EXPECT_EQ(s.nodesMoved, 6);
+  EXPECT_EQ(s.nodesRemoved, 1);
+  EXPECT_NE(s.path, Path::kIncremental);
+  expectSameMap(freshMap(run, graph), grid.map());
+  EXPECT_EQ(grid.assembledPoses().size(), graph.size());
+}
+
+TEST(OccupancyGrid, DeferredChangesUndoneOrForcedLeaveNothingWaiting) {
+  const ScanRun run = corridorRun(12);
+  GlobalGridOptions o = options();
+  o.reassemblyInterval = 5;
+  OccupancyGrid grid(o);
+  std::map<int, Transform> graph;
+  for (int id = 1; id <= 10; ++id) {
+    grid.addLocalGrid(id, run.grids.at(id));
+    graph[id] = run.poses.at(id);
+  }
+  grid.update(graph);
+  std::map<int, Transform> moved = graph;
+  moved[4] = Transform(0.2, 0, 0) * graph[4];
+  EXPECT_EQ(grid.update(moved).updatesDeferred, 1);
+  // Optimisation puts node 4 back: nothing differs from the map any more.
+  GridUpdateSummary s = grid.update(graph);
+  EXPECT_EQ(s.updatesDeferred, 0) << s.why;
+  EXPECT_EQ(s.path, Path::kNone);
+  EXPECT_EQ(grid.pendingUpdates(), 0);
+  expectSameMap(freshMap(run, graph), grid.map());
+  // Deferral refused (the robot stands, or the user added a link): re-assembled at once.
+  EXPECT_EQ(grid.update(moved).updatesDeferred, 1);
+  s = grid.update(moved, false);
+  EXPECT_EQ(s.updatesDeferred, 0);
+  EXPECT_EQ(s.nodesMoved, 1);
+  EXPECT_EQ(grid.pendingUpdates(), 0);
+  expectSameMap(freshMap(run, moved), grid.map());
+  // MaxNodes selects anew with every node: no deferral with it.
+  o.maxNodes = 8;
+  OccupancyGrid newest(o);
+  for (const auto& [id, pose] : graph) newest.addLocalGrid(id, run.grids.at(id));
+  newest.update(graph);
+  s = newest.update(moved);
+  EXPECT_EQ(s.updatesDeferred, 0);
+  EXPECT_EQ(s.nodesMoved, 1);
+}
+
+// A node whose grid was removed (the map_assembler invalidating a node whose data changed) and
+// that moved in the same update leaves the map; finding it moved must not need its cells.
+TEST(OccupancyGrid, ANodeRemovedAndMovedInOneUpdateLeavesTheMap) {
+  const ScanRun run = corridorRun(6);
+  OccupancyGrid grid(options());
+  for (const auto& [id, g] : run.grids) grid.addLocalGrid(id, g);
+  grid.update(run.poses);
+  grid.removeLocalGrid(3);
+  std::map<int, Transform> moved = run.poses;
+  moved[3] = Transform(0.5, 0, 0) * moved[3];
+  GridUpdateSummary s;
+  ASSERT_NO_THROW(s = grid.update(moved));
+  EXPECT_EQ(s.nodesRemoved, 1);
+  std::map<int, Transform> without = run.poses;
+  without.erase(3);
+  expectSameMap(freshMap(run, without), grid.map());
 }

@@ -276,5 +276,64 @@ TEST(SimSlam, GridReassembliesReadLongTermMemoryCellsBackAndGiveTheSameMap) {
   slam.close();
 }
 
+// GridGlobal/ReassemblyInterval: the re-assemblies of the loop's corrections wait a few updates
+// (new nodes appended at once); when the robot stands still the next frame assembles what waits,
+// and the map is then the one of the graph. Same sensor model as above, so that the map built
+// from scratch at the graph's poses is the expected one to the bit.
+TEST(SimSlam, DeferredGridReassembliesCatchUpWhenTheRobotStandsStill) {
+  REQUIRE_SIM(folder, "loop");
+  test::TempDir dir("rtabmap_slam_grid_deferred");
+  ParametersMap p = test::simSlamParameters();
+  p["GridGlobal/ReassemblyInterval"] = "4";
+  p["GridGlobal/UpdateError"] = "0";
+  p["GridGlobal/ProbHit"] = "0.51";
+  p["GridGlobal/ProbMiss"] = "0.49";
+  p["GridGlobal/ProbClampingMin"] = "0.001";
+  p["GridGlobal/ProbClampingMax"] = "0.999";
+  std::unique_ptr<DatasetReader> reader = openDatasetReader("sim", folder);
+  Rtabmap slam;
+  slam.init(p, dir.file("rtabmap.db"));
+  DatasetRecord record;
+  int deferred = 0, longest = 0;
+  SensorData last;
+  // Up to an update whose changes wait, once the loop has been closed a few times.
+  while (reader->next(record)) {
+    if (record.kind != DatasetRecord::Kind::kFrame || !slam.process(record.data)) continue;
+    const auto& d = slam.statistics().data();
+    const int waiting = d.count("Memory/Grid_updates_deferred/") ? static_cast<int>(d.at("Memory/Grid_updates_deferred/")) : 0;
+    deferred += waiting > 0;
+    longest = std::max(longest, waiting);
+    last = record.data;
+    if (deferred >= 10 && waiting > 0 && slam.optimizedPoses().size() > 100) break;
+  }
+  ASSERT_GE(deferred, 10) << "too few corrections deferred: the test proves nothing";
+  EXPECT_EQ(longest, 3);  // never more than N - 1 updates late
+
+  auto mapOfTheGraph = [&] {
+    OccupancyGrid fresh(GlobalGridOptions::fromParameters(p));
+    const std::map<int, Transform> poses = slam.optimizedPoses();
+    for (const auto& [id, pose] : poses) {
+      const std::optional<Signature> n = slam.node(id);
+      EXPECT_TRUE(n) << id;
+      if (n && !n->sensorData().localGrid().isEmpty()) fresh.addLocalGrid(id, n->sensorData().localGrid());
+    }
+    fresh.update(poses);
+    return fresh.map();
+  };
+  auto differingCells = [](const GridMap& a, const GridMap& b) {
+    if (a.data.size() != b.data.size() || a.originX != b.originX || a.originY != b.originY) return -1;
+    return cv::countNonZero(a.data != b.data);
+  };
+  EXPECT_NE(differingCells(mapOfTheGraph(), slam.gridMap()), 0) << "the waiting changes do not show";
+  // The robot stands: the same odometry two seconds later.
+  SensorData still = last;
+  still.setStamp(last.stamp() + 2.0);
+  const int stillBefore = slam.summary().skippedStill;
+  slam.process(still);
+  EXPECT_EQ(slam.summary().skippedStill, stillBefore + 1);
+  EXPECT_EQ(differingCells(mapOfTheGraph(), slam.gridMap()), 0);
+  slam.close();
+}
+
 }  // namespace
 }  // namespace rtabmap

@@ -42,7 +42,7 @@ SlamStage::SlamStage(const RunOptions& run, const SlamRunOptions& options) : run
     if (!updatesCsv_) throw Error("cannot write " + run_.updatesCsv);
     updatesCsv_ << "node,nodes,wm,update_ms,map_assembling_ms,rss_mb,heap_mb,heap_free_mb,sqlite_mb,grid_mb,"
                    "rss_anon_mb,rss_file_mb,grid_read_back,words,memory_release_ms,"
-                   "locations_mb,vocabulary_mb,index_points\n";
+                   "locations_mb,vocabulary_mb,index_points,grid_path,grid_moved,grid_replayed,grid_cell_updates\n";
   }
 }
 
@@ -78,7 +78,9 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
                   << get("Memory/Grid_memory_used/MB") << ',' << rss.anon * kMb << ',' << rss.file * kMb << ','
                   << get("Memory/Grid_nodes_read_back/") << ',' << get("Keypoint/Dictionary_size/words") << ','
                   << get("Timing/Memory_release/ms") << ',' << get("Memory/Locations_memory_used/MB") << ','
-                  << get("Memory/Vocabulary_memory_used/MB") << ',' << get("Memory/Vocabulary_index_points/") << '\n';
+                  << get("Memory/Vocabulary_memory_used/MB") << ',' << get("Memory/Vocabulary_index_points/") << ','
+                  << get("Memory/Grid_path/") << ',' << get("Memory/Grid_nodes_moved/") << ','
+                  << get("Memory/Grid_nodes_replayed/") << ',' << get("Memory/Grid_cell_updates/") << '\n';
     }
   }
   if (rtabmap_.lastNodeId() > 0) frameRefs_.push_back({frame.stamp, rtabmap_.lastNodeId(), frame.pose});

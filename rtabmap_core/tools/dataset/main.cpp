@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
                   "heap kept free, SQLite and global grid memory, resident anonymous and file-backed memory "
                   "(MB), nodes whose grid cells were read back from the database, words in the vocabulary, "
                   "time giving freed heap back to the system (ms), memory of the locations in RAM and of the "
-                  "vocabulary (MB), points in the vocabulary's index.");
+                  "vocabulary (MB), points in the vocabulary's index, and what the global grid's update did: its "
+                  "path (0 none, 1 incremental, 2 region, 3 full), nodes moved, nodes replayed, cell updates.");
     cli.addOption("threads", "N", "OpenCV threads (0 = OpenCV's default, 1 = single core as the bench).", "0");
     cli.addNote("With --json, the last stdout line is a JSON object: frames, lost, key_frames, odom_ms_median, "
                 "odom_ms_mean, odom_ms_max, odom_ate_rmse (and mean, median, max) when there is ground truth; "
