@@ -210,7 +210,7 @@ class OccupancyGrid::Impl {
   void newAfterLast(const std::map<int, Transform>& poses, std::vector<int>& appended, int& withoutGrid) const;
   // Applies new nodes on top of the map, the last in the update order (the incremental path).
   void appendNodes(const std::vector<int>& ids, const std::map<int, Transform>& poses, GridUpdateSummary& s);
-  GridUpdateSummary update(const std::map<int, Transform>& poses, bool allowDeferral);
+  GridUpdateSummary update(const std::map<int, Transform>& poses);
   // Re-assembles the dirty tiles: each starts from its layer (or unknown), the evicted nodes not
   // in it yet are applied and the result becomes its layer, then the other nodes. `replay`: the
   // nodes (id order) with a dirty tile they write in; `retiled`: those whose tiles to record.
@@ -373,7 +373,7 @@ void OccupancyGrid::Impl::appendNodes(const std::vector<int>& ids, const std::ma
   s.nodesAdded = static_cast<int>(ids.size());
 }
 
-GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& poses, bool allowDeferral) {
+GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& poses) {
   const auto start = std::chrono::steady_clock::now();
   GridUpdateSummary s;
   rememberedNow = 0;
@@ -395,16 +395,17 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     return finish();
   }
   // Deferred re-assembly (see OccupancyGrid.h): the moved nodes keep the pose they are assembled
-  // at, so the next update's difference holds this one's changes too. Not with MaxNodes or
-  // AltitudeDelta, whose selection changes with every new node.
-  if (allowDeferral && deferred + 1 < o.reassemblyInterval && forced == Path::kNone && o.maxNodes == 0 &&
+  // at, so the next update's difference holds this one's changes too. Only while new nodes come
+  // (an update without one: the robot stands, or a link was added by hand), and not with
+  // MaxNodes or AltitudeDelta, whose selection changes with every new node.
+  fresh.clear();
+  withoutGrid = 0;
+  newAfterLast(poses, fresh, withoutGrid);
+  if (!fresh.empty() && deferred + 1 < o.reassemblyInterval && forced == Path::kNone && o.maxNodes == 0 &&
       o.altitudeDelta <= 0.0f) {
     ++deferred;
-    fresh.clear();
-    withoutGrid = 0;
-    newAfterLast(poses, fresh, withoutGrid);
     appendNodes(fresh, poses, s);
-    s.path = fresh.empty() ? Path::kNone : Path::kIncremental;
+    s.path = Path::kIncremental;
     s.updatesDeferred = deferred;
     s.why = std::to_string(fresh.size()) + " new node(s) appended; the graph's other changes wait (" +
             std::to_string(deferred) + " update(s) of GridGlobal/ReassemblyInterval " +
@@ -693,9 +694,7 @@ bool OccupancyGrid::evictLocalGrid(int nodeId) {
   if (n.layerKey == maps_detail::kInWorkingMemory) n.layerKey = ++impl_->evictions;
   return true;
 }
-GridUpdateSummary OccupancyGrid::update(const std::map<int, Transform>& poses, bool allowDeferral) {
-  return impl_->update(poses, allowDeferral);
-}
+GridUpdateSummary OccupancyGrid::update(const std::map<int, Transform>& poses) { return impl_->update(poses); }
 int OccupancyGrid::pendingUpdates() const { return impl_->deferred; }
 void OccupancyGrid::forceNextPath(GridUpdateSummary::Path path) { impl_->forced = path; }
 

@@ -117,11 +117,12 @@ struct Rtabmap::Impl {
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
   // The robot stands still, no update comes: graph changes the global grid deferred
-  // (GridGlobal/ReassemblyInterval) are assembled now rather than at the next node.
+  // (GridGlobal/ReassemblyInterval) are assembled now (an update without a new node does not
+  // defer) rather than at the next node.
   void assembleDeferredGrid() {
     if (!grid || grid->pendingUpdates() == 0) return;
     StageTimer t(stats, Statistics::kTimingMap_assembling);
-    grid->update(graph.posesOfGroup(mapId), false);
+    grid->update(graph.posesOfGroup(mapId));
   }
   // The global grid drops the cells of the nodes that left for the LTM (read back on demand).
   void evictTransferredGrids(const memory::LoopClosureUpdate& u) {

@@ -132,7 +132,7 @@ bool Rtabmap::addLink(const Link& link) {
     m.mapCorrection = pose * m.lastNodeOdom.inverse();
     m.currentPose = m.mapCorrection * m.lastOdom;
   }
-  if (m.grid) m.grid->update(m.graph.posesOfGroup(m.mapId), false);  // the user sees the link's effect now
+  if (m.grid) m.grid->update(m.graph.posesOfGroup(m.mapId));  // no new node: never deferred
   return true;
 }
 

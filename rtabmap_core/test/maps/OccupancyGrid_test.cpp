@@ -796,29 +796,34 @@ TEST(OccupancyGrid, DeferredReassemblyAddsChangesUpAndEndsOnTheMapOfTheLastGraph
   EXPECT_EQ(grid.assembledPoses().size(), graph.size());
 }
 
-TEST(OccupancyGrid, DeferredChangesUndoneOrForcedLeaveNothingWaiting) {
-  const ScanRun run = corridorRun(12);
+TEST(OccupancyGrid, DeferredChangesUndoneOrWithoutANewNodeLeaveNothingWaiting) {
+  const ScanRun run = corridorRun(16);
   GlobalGridOptions o = options();
   o.reassemblyInterval = 5;
   OccupancyGrid grid(o);
   std::map<int, Transform> graph;
-  for (int id = 1; id <= 10; ++id) {
-    grid.addLocalGrid(id, run.grids.at(id));
-    graph[id] = run.poses.at(id);
-  }
+  for (int id = 1; id <= 16; ++id) grid.addLocalGrid(id, run.grids.at(id));
+  for (int id = 1; id <= 10; ++id) graph[id] = run.poses.at(id);
   grid.update(graph);
-  std::map<int, Transform> moved = graph;
-  moved[4] = Transform(0.2, 0, 0) * graph[4];
+  auto withNode = [&](std::map<int, Transform> g, int id) {
+    graph[id] = g[id] = run.poses.at(id);
+    return g;
+  };
+  const Transform shift(0.2, 0, 0);
+  std::map<int, Transform> moved = withNode(graph, 11);
+  moved[4] = shift * graph[4];
   EXPECT_EQ(grid.update(moved).updatesDeferred, 1);
   // Optimisation puts node 4 back: nothing differs from the map any more.
-  GridUpdateSummary s = grid.update(graph);
+  GridUpdateSummary s = grid.update(withNode(graph, 12));
   EXPECT_EQ(s.updatesDeferred, 0) << s.why;
-  EXPECT_EQ(s.path, Path::kNone);
+  EXPECT_EQ(s.path, Path::kIncremental);
   EXPECT_EQ(grid.pendingUpdates(), 0);
   expectSameMap(freshMap(run, graph), grid.map());
-  // Deferral refused (the robot stands, or the user added a link): re-assembled at once.
+  // An update without a new node (the robot stands, a link added by hand) re-assembles at once.
+  moved = withNode(graph, 13);
+  moved[4] = shift * graph[4];
   EXPECT_EQ(grid.update(moved).updatesDeferred, 1);
-  s = grid.update(moved, false);
+  s = grid.update(moved);
   EXPECT_EQ(s.updatesDeferred, 0);
   EXPECT_EQ(s.nodesMoved, 1);
   EXPECT_EQ(grid.pendingUpdates(), 0);
@@ -826,8 +831,10 @@ TEST(OccupancyGrid, DeferredChangesUndoneOrForcedLeaveNothingWaiting) {
   // MaxNodes selects anew with every node: no deferral with it.
   o.maxNodes = 8;
   OccupancyGrid newest(o);
-  for (const auto& [id, pose] : graph) newest.addLocalGrid(id, run.grids.at(id));
+  for (const auto& [id, g] : run.grids) newest.addLocalGrid(id, g);
   newest.update(graph);
+  moved = withNode(graph, 14);
+  moved[12] = shift * graph[12];
   s = newest.update(moved);
   EXPECT_EQ(s.updatesDeferred, 0);
   EXPECT_EQ(s.nodesMoved, 1);

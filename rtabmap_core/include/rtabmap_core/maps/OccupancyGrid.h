@@ -35,12 +35,13 @@
 // hundreds of long-range scans (the simulator's 2-hour tour offline: 60-120 ms an update in its
 // second half, growing with the map). With N > 1 such changes wait, and add up, for up to N - 1
 // updates (new nodes are still appended at once, on top, as they come last in the id order);
-// the N-th update re-assembles them all together. That re-assembly is larger than one update's
+// the N-th update, or the first that brings no new node (the robot stands still, a link added by
+// hand), re-assembles them all together. That re-assembly is larger than one update's
 // (the moves of N updates cover more of the map), so the mean cost falls less than N times and
 // the tail grows: on that tour with N = 5, Map_assembling mean 117 -> 75 ms and update median
 // 209 -> 140 ms, but update p95 518 -> 697 ms (from update 6,000 on). The map is then exactly the
-// one of the graph given last. update(poses, false) re-assembles now (the robot stands still, a
-// link the user added); pendingUpdates() says how many updates' changes wait.
+// one of the graph given last. pendingUpdates() says how many updates' changes wait (Rtabmap
+// calls update() on a frame it skips because the robot did not move, to assemble them).
 //
 // Memory (issue 10). A re-assembly may replay any node of the map, so every node's cells are
 // needed; kept in RAM they cost a few KB per node for the whole map, Long-Term Memory included.
@@ -162,9 +163,9 @@ class OccupancyGrid {
   bool evictLocalGrid(int nodeId);
 
   // Brings the map to the given graph (node id -> pose, e.g. the optimised poses): appends new
-  // nodes, re-assembles for moved or removed ones (or defers that, see Deferred re-assembly;
-  // never when allowDeferral is false). Null or non-finite poses are ignored as absent.
-  GridUpdateSummary update(const std::map<int, Transform>& poses, bool allowDeferral = true);
+  // nodes, re-assembles for moved or removed ones (or defers that while new nodes come, see
+  // Deferred re-assembly). Null or non-finite poses are ignored as absent.
+  GridUpdateSummary update(const std::map<int, Transform>& poses);
   // Updates whose graph changes wait for a re-assembly (0: none).
   int pendingUpdates() const;
   // Forces one path for the next re-assembly (benchmarks and tests measure both); kNone = choose.
