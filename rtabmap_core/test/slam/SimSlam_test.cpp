@@ -215,6 +215,31 @@ TEST(SimSlam, AMergeRefusedByTheGraphIsRedoneToo) {
   EXPECT_GE(count, 3) << "session 3 is merged through its true closures";
 }
 
+// Every node assembled at its pose of the graph, to the bit, with a sensor model whose updates
+// never reach the clamping bounds (where the order of updates would matter; 0.04 a hit, 0.04 a
+// miss: 170 updates to a bound): the grid SLAM assembled is then the one built from scratch.
+void useOrderFreeGridModel(ParametersMap& p) {
+  p["GridGlobal/UpdateError"] = "0";
+  p["GridGlobal/ProbHit"] = "0.51";
+  p["GridGlobal/ProbMiss"] = "0.49";
+  p["GridGlobal/ProbClampingMin"] = "0.001";
+  p["GridGlobal/ProbClampingMax"] = "0.999";
+}
+
+// The grid of slam's optimised graph built from scratch, every node's local grid in RAM.
+void buildMapOfTheGraph(const Rtabmap& slam, const ParametersMap& p, GridMap& out) {
+  OccupancyGrid fresh(GlobalGridOptions::fromParameters(p));
+  const std::map<int, Transform> poses = slam.optimizedPoses();
+  for (const auto& [id, pose] : poses) {
+    const std::optional<Signature> n = slam.node(id);
+    ASSERT_TRUE(n) << id;
+    if (!n->sensorData().localGrid().isEmpty()) {
+      ASSERT_TRUE(fresh.addLocalGrid(id, n->sensorData().localGrid()));
+    }
+  }
+  fresh.update(poses);
+  out = fresh.map();
+}
 
 // Issue 10: with Working Memory bounded, the global grid keeps in RAM the cells of Working Memory
 // nodes only; the loop closure's re-assemblies read those of Long-Term Memory nodes back from the
@@ -226,12 +251,8 @@ TEST(SimSlam, GridReassembliesReadLongTermMemoryCellsBackAndGiveTheSameMap) {
   test::TempDir dir("rtabmap_slam_grid_ltm");
   ParametersMap p = test::simSlamParameters();
   p["Rtabmap/MemoryThr"] = "30";
-  p["GridGlobal/UpdateError"] = "0";  // every node assembled at its pose of the graph, to the bit
   p["GridGlobal/LtmCacheSize"] = "0.05";  // 50 KB: most replays of LTM nodes read them back
-  p["GridGlobal/ProbHit"] = "0.51";       // 0.04 a hit, 0.04 a miss: 170 updates to a bound
-  p["GridGlobal/ProbMiss"] = "0.49";
-  p["GridGlobal/ProbClampingMin"] = "0.001";
-  p["GridGlobal/ProbClampingMax"] = "0.999";
+  useOrderFreeGridModel(p);
   std::unique_ptr<DatasetReader> reader = openDatasetReader("sim", folder);
   Rtabmap slam;
   slam.init(p, dir.file("rtabmap.db"));
@@ -258,16 +279,9 @@ TEST(SimSlam, GridReassembliesReadLongTermMemoryCellsBackAndGiveTheSameMap) {
   EXPECT_LT(maxResident, 60.0f);
   EXPECT_GT(maxResident, 0.0f);
 
-  OccupancyGrid inRam(GlobalGridOptions::fromParameters(p));
-  for (const auto& [id, pose] : poses) {
-    const std::optional<Signature> n = slam.node(id);
-    ASSERT_TRUE(n) << id;
-    if (!n->sensorData().localGrid().isEmpty()) {
-      ASSERT_TRUE(inRam.addLocalGrid(id, n->sensorData().localGrid()));
-    }
-  }
-  inRam.update(poses);
-  const GridMap expected = inRam.map(), actual = slam.gridMap();
+  GridMap expected;
+  ASSERT_NO_FATAL_FAILURE(buildMapOfTheGraph(slam, p, expected));
+  const GridMap actual = slam.gridMap();
   ASSERT_FALSE(expected.empty());
   ASSERT_EQ(expected.data.size(), actual.data.size());
   EXPECT_DOUBLE_EQ(expected.originX, actual.originX);
@@ -278,18 +292,13 @@ TEST(SimSlam, GridReassembliesReadLongTermMemoryCellsBackAndGiveTheSameMap) {
 
 // GridGlobal/ReassemblyInterval: the re-assemblies of the loop's corrections wait a few updates
 // (new nodes appended at once); when the robot stands still the next frame assembles what waits,
-// and the map is then the one of the graph. Same sensor model as above, so that the map built
-// from scratch at the graph's poses is the expected one to the bit.
+// and the map is then the one of the graph (built from scratch, useOrderFreeGridModel).
 TEST(SimSlam, DeferredGridReassembliesCatchUpWhenTheRobotStandsStill) {
   REQUIRE_SIM(folder, "loop");
   test::TempDir dir("rtabmap_slam_grid_deferred");
   ParametersMap p = test::simSlamParameters();
   p["GridGlobal/ReassemblyInterval"] = "4";
-  p["GridGlobal/UpdateError"] = "0";
-  p["GridGlobal/ProbHit"] = "0.51";
-  p["GridGlobal/ProbMiss"] = "0.49";
-  p["GridGlobal/ProbClampingMin"] = "0.001";
-  p["GridGlobal/ProbClampingMax"] = "0.999";
+  useOrderFreeGridModel(p);
   std::unique_ptr<DatasetReader> reader = openDatasetReader("sim", folder);
   Rtabmap slam;
   slam.init(p, dir.file("rtabmap.db"));
@@ -310,15 +319,9 @@ TEST(SimSlam, DeferredGridReassembliesCatchUpWhenTheRobotStandsStill) {
   EXPECT_EQ(longest, 3);  // never more than N - 1 updates late
 
   auto mapOfTheGraph = [&] {
-    OccupancyGrid fresh(GlobalGridOptions::fromParameters(p));
-    const std::map<int, Transform> poses = slam.optimizedPoses();
-    for (const auto& [id, pose] : poses) {
-      const std::optional<Signature> n = slam.node(id);
-      EXPECT_TRUE(n) << id;
-      if (n && !n->sensorData().localGrid().isEmpty()) fresh.addLocalGrid(id, n->sensorData().localGrid());
-    }
-    fresh.update(poses);
-    return fresh.map();
+    GridMap m;
+    buildMapOfTheGraph(slam, p, m);
+    return m;
   };
   auto differingCells = [](const GridMap& a, const GridMap& b) {
     if (a.data.size() != b.data.size() || a.originX != b.originX || a.originY != b.originY) return -1;
