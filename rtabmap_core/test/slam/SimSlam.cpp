@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "common/ToolRun.h"
 #include "rtabmap_core/eval/DatasetReader.h"
@@ -11,17 +12,37 @@
 
 namespace rtabmap::test {
 
+namespace {
+
+// Datasets of the same scenario made by an earlier simulator (another key): no test of this build
+// reads them. Best effort: a folder another process is still writing is its own temporary one.
+void removeOtherSimulators(const std::filesystem::path& cache, const std::string& prefix,
+                           const std::filesystem::path& keep) {
+  std::error_code ec;
+  std::vector<std::filesystem::path> stale;
+  for (const auto& entry : std::filesystem::directory_iterator(cache, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) == 0 && entry.path() != keep) stale.push_back(entry.path());
+  }
+  for (const auto& path : stale) std::filesystem::remove_all(path, ec);
+}
+
+}  // namespace
+
 std::string simDataset(const std::string& scenario, std::string* why) {
   // The simulator is deterministic (same options, same bytes): a dataset is made once per build
-  // tree and shared by the tests, which ctest runs as separate processes, maybe at once. Each
-  // writer works in its own folder and renames it into place; the first rename wins.
+  // tree and simulator (RTABMAP_CORE_SIM_KEY, a hash of its sources, see CMakeLists.txt) and
+  // shared by the tests, which ctest runs as separate processes, maybe at once. Each writer works
+  // in its own folder and renames it into place; the first rename wins.
   const std::string options = "--rate 2 --width 320 --height 240 --no-stereo --no-urg";
   const std::filesystem::path cache = std::filesystem::path(RTABMAP_CORE_BINARY_DIR) / "test_data";
-  const std::filesystem::path final = cache / ("sim_" + scenario + "_r2_320");
+  const std::string prefix = "sim_" + scenario + "_r2_320_";
+  const std::filesystem::path final = cache / (prefix + RTABMAP_CORE_SIM_KEY);
   if (std::filesystem::exists(final / "info.yaml") || std::filesystem::exists(final / "session1" / "info.yaml")) {
     return final.string();
   }
   std::filesystem::create_directories(cache);
+  removeOtherSimulators(cache, prefix, final);
   TempDir work("rtabmap_slam_sim");
   const std::string out = work.file(scenario);
   const ToolRun r = runTool("sim", "--scenario " + scenario + " --output " + out + " " + options + " --json", work);
