@@ -8,8 +8,11 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "common/TestData.h"
 #include "odometry/VisualOdometryTestUtil.h"
@@ -95,6 +98,28 @@ TEST(DatasetTool, OdometryOverASequenceWritesTumAndJson) {
   const ToolRun text = runTool("--format 7scenes --odom f2m --max-frames 10 --Vis/MaxFeatures 300 " + data);
   EXPECT_EQ(text.exitCode, 0);
   EXPECT_NE(text.out.find("ATE"), std::string::npos) << text.out;
+}
+
+// Stamps since 1970 (the simulator's, TUM's, EuRoC's) keep their fraction in --frames-csv:
+// written with 9 significant digits, 10 Hz frames all read 1.7e+09.
+TEST(DatasetTool, FramesCsvKeepsEachFrameStamp) {
+  test::TempDir dir("rtabmap_dataset_stamps");
+  const std::string data = dir.file("sim");
+  const std::string sim = test::toolPath("sim") + " --scenario corridor --duration 2 --rate 10 --width 64 --height 48" +
+                          " --no-stereo --no-urg --output " + data + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(sim.c_str()), 0);
+  const std::string csv = dir.file("frames.csv");
+  const ToolRun run = runTool("--format sim --odom wheel --json --frames-csv " + csv + " " + data);
+  ASSERT_EQ(run.exitCode, 0) << run.out;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);  // header
+  std::vector<double> stamps;
+  while (std::getline(in, line)) stamps.push_back(std::stod(line.substr(line.find(',') + 1)));
+  ASSERT_EQ(static_cast<int>(stamps.size()), lastLine(run.out)["frames"].get<int>());
+  ASSERT_GE(stamps.size(), 10u);
+  EXPECT_GT(stamps.front(), 1.0e9);
+  for (size_t i = 1; i < stamps.size(); ++i) EXPECT_NEAR(stamps[i] - stamps[i - 1], 0.1, 1e-4) << "frame " << i;
 }
 
 TEST(DatasetTool, UsageErrors) {

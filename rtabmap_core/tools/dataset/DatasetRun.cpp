@@ -89,11 +89,28 @@ std::optional<FrameResult> OdometryStage::process(DatasetRecord& record) {
   return result;
 }
 
-void RunStatistics::add(const FrameResult& frame) { frames_.push_back(frame); }
+FrameRecord::FrameRecord(const FrameResult& frame)
+    : id(frame.id),
+      stamp(frame.stamp),
+      pose(frame.pose),
+      groundTruth(frame.groundTruth),
+      cameraLocal(frame.cameraLocal),
+      lost(frame.info.lost),
+      keyFrameAdded(frame.info.keyFrameAdded),
+      autoReset(frame.info.autoReset),
+      features(frame.info.features),
+      matches(frame.info.reg.matches),
+      inliers(frame.info.reg.inliers),
+      localMapSize(frame.info.localMapSize),
+      timeTotalMs(frame.info.timeTotalMs),
+      distanceTravelled(frame.info.distanceTravelled),
+      lostReason(frame.info.lostReason) {}
+
+void RunStatistics::add(const FrameResult& frame) { frames_.emplace_back(frame); }
 
 Trajectory RunStatistics::estimate(bool cameraFrame) const {
   Trajectory t;
-  for (const FrameResult& f : frames_) {
+  for (const FrameRecord& f : frames_) {
     if (f.pose.isNull()) continue;
     if (cameraFrame && f.cameraLocal.isNull()) continue;
     t.add(f.stamp, cameraFrame ? f.pose * f.cameraLocal : f.pose);
@@ -103,7 +120,7 @@ Trajectory RunStatistics::estimate(bool cameraFrame) const {
 
 Trajectory RunStatistics::groundTruth(bool cameraFrame) const {
   Trajectory t;
-  for (const FrameResult& f : frames_) {
+  for (const FrameRecord& f : frames_) {
     if (f.groundTruth.isNull()) continue;
     if (cameraFrame && f.cameraLocal.isNull()) continue;
     t.add(f.stamp, cameraFrame ? f.groundTruth * f.cameraLocal : f.groundTruth);
@@ -129,9 +146,11 @@ void RunStatistics::writeFramesCsv() const {
   if (!out) throw Error("cannot write " + options_.framesCsv);
   out << "id,stamp,lost,features,matches,inliers,key_frame,local_map,ms,x,y,z,gt_x,gt_y,gt_z,reason\n";
   out << std::setprecision(9);
-  for (const FrameResult& f : frames_) {
-    out << f.id << "," << f.stamp << "," << f.info.lost << "," << f.info.features << "," << f.info.reg.matches << ","
-        << f.info.reg.inliers << "," << f.info.keyFrameAdded << "," << f.info.localMapSize << "," << f.info.timeTotalMs;
+  for (const FrameRecord& f : frames_) {
+    // Stamps in seconds since 1970 need their own precision: 9 digits would drop the fraction.
+    out << f.id << "," << std::fixed << std::setprecision(6) << f.stamp << std::defaultfloat << std::setprecision(9)
+        << "," << f.lost << "," << f.features << "," << f.matches << ","
+        << f.inliers << "," << f.keyFrameAdded << "," << f.localMapSize << "," << f.timeTotalMs;
     for (const Transform* t : {&f.pose, &f.groundTruth}) {
       if (t->isNull()) {
         out << ",,,";
@@ -139,7 +158,7 @@ void RunStatistics::writeFramesCsv() const {
         out << "," << t->x() << "," << t->y() << "," << t->z();
       }
     }
-    std::string reason = f.info.lostReason;
+    std::string reason = f.lostReason;
     std::replace(reason.begin(), reason.end(), ',', ';');
     out << "," << reason << "\n";
   }
@@ -153,17 +172,17 @@ nlohmann::json RunStatistics::toJson() const {
   std::vector<double> times, features, inliers;
   int lost = 0, keyFrames = 0, resets = 0;
   double distance = 0.0;
-  for (const FrameResult& f : frames_) {
-    times.push_back(f.info.timeTotalMs);
-    features.push_back(f.info.features);
-    if (f.info.lost) {
+  for (const FrameRecord& f : frames_) {
+    times.push_back(f.timeTotalMs);
+    features.push_back(f.features);
+    if (f.lost) {
       ++lost;
     } else {
-      inliers.push_back(f.info.reg.inliers);
-      distance = f.info.distanceTravelled;
+      inliers.push_back(f.inliers);
+      distance = f.distanceTravelled;
     }
-    keyFrames += f.info.keyFrameAdded ? 1 : 0;
-    resets += f.info.autoReset ? 1 : 0;
+    keyFrames += f.keyFrameAdded ? 1 : 0;
+    resets += f.autoReset ? 1 : 0;
   }
   j["frames"] = frames_.size();
   j["lost"] = lost;

@@ -71,6 +71,21 @@ class OdometryStage {
 // (translation 5% of the distance, rotation 5% of the turn plus 2 degrees per metre).
 Eigen::Matrix<double, 6, 6> wheelIncrementCovariance(const Transform& motion);
 
+// What the outputs keep of a frame: its trajectories and odometry figures. Not the whole
+// OdometryInfo: kept for every frame of a two-hour run, it made the tool grow ~1.4 KB a frame,
+// which --updates-csv's resident sizes then counted as if the map had grown.
+struct FrameRecord {
+  explicit FrameRecord(const FrameResult& frame);
+  int id;
+  double stamp;
+  Transform pose, groundTruth, cameraLocal;  // as in FrameResult
+  bool lost, keyFrameAdded, autoReset;
+  int features, matches, inliers, localMapSize;
+  double timeTotalMs;
+  double distanceTravelled;
+  std::string lostReason;
+};
+
 // Stage: accumulates the results: trajectories, timings, counts; writes and summarises them.
 class RunStatistics {
  public:
@@ -92,7 +107,7 @@ class RunStatistics {
 
   RunOptions options_;
   std::string approach_;
-  std::vector<FrameResult> frames_;
+  std::vector<FrameRecord> frames_;
   nlohmann::json slam_;  // the mapping stage's figures (empty without --slam)
 };
 
