@@ -17,6 +17,7 @@ management on, watching for leaks, slowdowns, crashes, drops and lost nodes.
 
 Run from a sourced catkin workspace (make soak does it)."""
 import argparse
+import hashlib
 import json
 import os
 import re
@@ -74,10 +75,25 @@ def read_frames(sim_dir):
     return frames
 
 
+def simulator_key():
+    """A hash of the simulator's sources (the same files as the SLAM tests' dataset key in
+    rtabmap_core/CMakeLists.txt): a changed simulator makes a new bag, not a replay of the old."""
+    digest = hashlib.sha1()
+    for folder in ("rtabmap_core/include/rtabmap_core/sim", "rtabmap_core/src/sim", "rtabmap_core/tools/sim"):
+        top = os.path.join(ROOT, folder)
+        for name in sorted(os.listdir(top)) if os.path.isdir(top) else []:
+            path = os.path.join(top, name)
+            if os.path.isfile(path):
+                with open(path, "rb") as f:
+                    digest.update(hashlib.sha1(f.read()).hexdigest().encode())
+    return digest.hexdigest()[:12]
+
+
 def make_bag(cache, duration, run_log):
-    """The long scenario's bag and its frames, from the cache when the options match."""
+    """The long scenario's bag and its frames, from the cache when the options and the simulator
+    match."""
     os.makedirs(cache, exist_ok=True)
-    key = {"sim": SIM_OPTIONS, "duration": duration, "bag": "--no-imu"}
+    key = {"sim": SIM_OPTIONS, "duration": duration, "bag": "--no-imu", "simulator": simulator_key()}
     bag = os.path.join(cache, "long_%d.bag" % duration)
     meta_path = os.path.join(cache, "long_%d.json" % duration)
     if os.path.exists(bag) and os.path.exists(meta_path):
