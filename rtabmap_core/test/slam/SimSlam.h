@@ -13,8 +13,7 @@ namespace rtabmap::test {
 
 // The folder of a simulated scenario (small images, 2 Hz, RGB-D + UTM laser), generated with
 // rtabmap-sim on first use and kept in the build tree for the other tests until the simulator's
-// sources change. "" (and *why) if the
-// simulator failed.
+// sources change. "" (and *why) if the simulator failed.
 std::string simDataset(const std::string& scenario, std::string* why);
 
 struct SimSlamRun {
