@@ -12,6 +12,7 @@
 
 #include "LinkRegistration.h"
 #include "MergeArbiter.h"
+#include "OdometryCache.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/features/FeatureDetector.h"
 #include "rtabmap_core/maps/LocalGridOptions.h"
@@ -86,6 +87,10 @@ struct Rtabmap::Impl {
   Covariance6 motionCovariance = Covariance6::Zero();
   // Localization mode
   bool localized = false;
+  // The recent localization frames and their links: a new localization must fit them
+  // (RGBD/MaxOdomCacheSize), and the motion since the last cached frame.
+  OdometryCache odometryCache;
+  Covariance6 cacheMotion = Covariance6::Zero();
   Transform initialLocalizationPose;  // last pose of the saved map (RGBD/StartAtOrigin false)
   Transform initialPose;              // given by the user, applied at the next update (null: none)
   std::map<int, std::string> labelCache;

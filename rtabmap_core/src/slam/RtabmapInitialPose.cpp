@@ -24,9 +24,12 @@ bool Rtabmap::setInitialPose(const Transform& pose, std::string* why) {
                   "); an initial pose places a map before its first node only (trigger a new map, or use localization mode)");
   }
   const Transform start = m.options.force3DoF ? pose.to3DoF() : pose;
-  // Localization: a guess, not a localisation; the next one is accepted wherever it puts the
-  // robot, and until then the robot moves with its odometry from `start`.
+  // Localization: a guess, not a localisation; the next confirmed one (two agreeing links,
+  // OdometryCache.h) is applied wherever it puts the robot, and until then the robot moves with
+  // its odometry from `start`. The links cached so far were found around the old belief, which
+  // the user says was wrong: they go.
   m.localized = false;
+  m.odometryCache.clear();
   if (!m.lastOdom.isNull() && !m.newMapPending) {
     // The robot is at `start` now, where the last odometry pose received put it: map -> odom
     // (and the tf of the ROS node) moves at once.

@@ -21,6 +21,13 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
     mergeArbiter = MergeArbiter(merge);
   }
   planner = PathPlanner(PlannerOptions::fromParameters(p));
+  {
+    OdometryCacheOptions cache;
+    cache.maxSize = options.maxOdomCacheSize;
+    cache.maxErrorRatio = options.optimizeMaxError;
+    cache.optimizer = optimizer;
+    odometryCache = OdometryCache(cache);
+  }
   if (options.metric) registration = std::make_unique<LinkRegistration>(p);
   if (options.createOccupancyGrid) {
     gridOptions = LocalGridOptions::fromParameters(p);

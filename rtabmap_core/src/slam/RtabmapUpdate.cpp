@@ -280,10 +280,13 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
     StageTimer t(stats, Statistics::kTimingMemory_update);
     added = detector->addLocation(makeLocation(data, odom, covariance), u);
   }
+  cacheMotion += motionCovariance;
   motionCovariance.setZero();
   if (added.id == 0) return refuse("frame " + std::to_string(data.id()) + " has too few visual words");
   const int tempId = added.id;
   const Transform estimate = mapCorrection * odom;
+  odometryCache.addFrame(odom, informationOf(cacheMotion, options.covOffDiagIgnored));
+  cacheMotion.setZero();
   graph.setPose(tempId, mapId, estimate);
 
   // Localisations: a verified loop closure, else proximity links to the map near the estimate.
@@ -317,7 +320,16 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
                                            << " m (" << Parameters::kRGBDMaxLoopClosureDistance() << ")");
       continue;
     }
-    mapCorrection = pose * odom.inverse();
+    const OdometryCacheVerdict verdict = odometryCache.verify({l, there});
+    if (verdict.proximityDropped > 0) {
+      RTABMAP_INFO("loop closure on node " << l.to() << " disagrees with " << verdict.proximityDropped
+                                           << " cached proximity localization(s): they are dropped");
+    }
+    if (!verdict.accepted || !verdict.confirmed) {
+      RTABMAP_INFO("localization on node " << l.to() << (verdict.accepted ? " kept: " : " rejected: ") << verdict.why);
+      continue;
+    }
+    mapCorrection = verdict.pose * odom.inverse();
     localized = true;
     used = true;
     ++summary.localizations;
