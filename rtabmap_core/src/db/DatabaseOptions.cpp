@@ -1,7 +1,9 @@
 #include <sstream>
 
 #include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/db/Version.h"
 #include "rtabmap_core/params/Parameters.h"
 
 namespace rtabmap::db {
@@ -41,6 +43,12 @@ DatabaseOptions DatabaseOptions::fromParameters(const std::map<std::string, std:
     throw ParameterError(Parameters::kDbSqlite3InMemory() +
                          " = true is not supported: the long-term memory is written as it goes "
                          "so that a crash keeps the session; use false");
+  }
+  const std::string target = Parameters::getString(parameters, Parameters::kDbTargetVersion());
+  if (!target.empty()) {
+    // The original's launch files set it to write an older schema; there is only one here.
+    RTABMAP_WARN(Parameters::kDbTargetVersion() << " \"" << target << "\" is ignored: databases are written in schema "
+                                                << kSchemaVersion << ", the only one this implementation has");
   }
   DatabaseOptions options;
   options.cacheSize = Parameters::getInt(parameters, Parameters::kDbSqlite3CacheSize());

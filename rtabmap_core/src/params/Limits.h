@@ -60,4 +60,11 @@ inline ParameterLimits NumberList(int count, double min, double max) {
   return limits;
 }
 
+// A parameter of the original not implemented here: only its default value is accepted.
+inline ParameterLimits NotImplemented(const char* what) {
+  ParameterLimits limits;
+  limits.notImplemented = what;
+  return limits;
+}
+
 }  // namespace rtabmap::param_limits

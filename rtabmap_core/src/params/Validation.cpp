@@ -88,8 +88,34 @@ bool matchesChoice(const ParameterInfo& info, const std::string& value, double n
   return false;
 }
 
+// The value means the default (true / 1, 2 / 2.0...), for the parameters that accept only it.
+bool isDefaultValue(const ParameterInfo& info, const std::string& value) {
+  switch (info.type) {
+    case ParameterType::kBool: {
+      bool a = false, b = false;
+      return value_text::parseBool(value, a) && value_text::parseBool(info.defaultValue, b) && a == b;
+    }
+    case ParameterType::kString:
+      return value == info.defaultValue;
+    default: {
+      double a = 0, b = 0;
+      std::string ignored;
+      return parseNumeric(info, value, a, ignored) && parseNumeric(info, info.defaultValue, b, ignored) && a == b;
+    }
+  }
+  return false;
+}
+
+std::string problemWithType(const ParameterInfo& info, const std::string& value);
+
 // "" if the value suits the declaration, else a short reason ("not a whole number").
 std::string problemWith(const ParameterInfo& info, const std::string& value) {
+  const std::string problem = problemWithType(info, value);
+  if (!problem.empty() || info.limits.notImplemented.empty() || isDefaultValue(info, value)) return problem;
+  return "not implemented here (" + info.limits.notImplemented + ")";
+}
+
+std::string problemWithType(const ParameterInfo& info, const std::string& value) {
   switch (info.type) {
     case ParameterType::kBool: {
       bool ignored = false;
@@ -157,6 +183,7 @@ double readNumber(const ParametersMap& parameters, const ParameterInfo& info) {
 }  // namespace
 
 std::string ParameterInfo::expectation() const {
+  if (!limits.notImplemented.empty()) return "its default only (not implemented here)";
   if (!limits.choices.empty()) return describeChoices(*this);
   switch (type) {
     case ParameterType::kBool: return "a bool (true, false, 1 or 0)";

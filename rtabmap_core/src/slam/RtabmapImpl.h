@@ -19,6 +19,7 @@
 #include "rtabmap_core/maps/OccupancyGrid.h"
 #include "rtabmap_core/memory/LoopClosureDetector.h"
 #include "rtabmap_core/optimizer/Optimizer.h"
+#include "rtabmap_core/registration/ScanFilter.h"
 #include "rtabmap_core/slam/PathPlanner.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 #include "rtabmap_core/slam/RtabmapOptions.h"
@@ -58,6 +59,7 @@ struct Rtabmap::Impl {
   memory::LoopClosureDetectorOptions detectorOptions;
   OptimizerOptions optimizer;
   std::optional<LocalGridOptions> gridOptions;
+  ScanFilterOptions scanFilter;  // Mem/LaserScan*: the scan a new node keeps
 
   // --- components ---
   std::unique_ptr<db::Database> db;

@@ -44,6 +44,17 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
     StageTimer t(stats, Statistics::kTimingMemKeypoints_detection);
     extractWords(data, in);
   }
+  if (scanFilter.active() && !data.laserScanRaw().empty()) {
+    // Before the local grid: the grid, the database and every registration get the filtered scan.
+    StageTimer t(stats, "Timing/Mem_scan_filtering/ms");
+    std::string why;
+    const LaserScan filtered = filterScan(data.laserScanRaw(), scanFilter, &why);
+    if (filtered.empty()) {
+      RTABMAP_WARN("frame " << raw.id() << ": the scan is kept unfiltered, the Mem/LaserScan* filters leave nothing of it: " << why);
+    } else {
+      data.setLaserScan(filtered);
+    }
+  }
   if (gridOptions && data.localGrid().isEmpty()) {
     StageTimer t(stats, Statistics::kTimingMemOccupancy_grid);
     LocalGridResult g = createLocalGrid(data, *gridOptions);

@@ -21,6 +21,7 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
     mergeArbiter = MergeArbiter(merge);
   }
   planner = PathPlanner(PlannerOptions::fromParameters(p));
+  scanFilter = ScanFilterOptions::fromParameters(p);
   {
     OdometryCacheOptions cache;
     cache.maxSize = options.maxOdomCacheSize;

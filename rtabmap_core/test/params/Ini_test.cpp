@@ -41,6 +41,7 @@ ParametersMap nonDefaultValues() {
   ParametersMap values;
   for (const ParameterInfo& parameter : Parameters::all()) {
     const ParameterLimits& limits = parameter.limits;
+    if (!limits.notImplemented.empty()) continue;  // only its default is accepted
     std::string value;
     if (!limits.choices.empty()) {
       for (const ParameterChoice& choice : limits.choices) {
@@ -63,7 +64,7 @@ ParametersMap nonDefaultValues() {
 
 TEST(ParameterIni, WriteThenReadRoundTripsAFullMapOfNonDefaultValues) {
   const ParametersMap written = nonDefaultValues();
-  ASSERT_GT(written.size(), Parameters::all().size() * 9 / 10);
+  ASSERT_GT(written.size(), Parameters::all().size() * 3 / 4);
   for (const auto& [key, value] : written) EXPECT_NE(value, Parameters::defaults().at(key)) << key;
   Parameters::validate(written);
   test::TempDir dir;
@@ -71,7 +72,7 @@ TEST(ParameterIni, WriteThenReadRoundTripsAFullMapOfNonDefaultValues) {
   Parameters::writeIni(path, written);
   const ParametersMap read = Parameters::readIni(path);
   EXPECT_EQ(read, written);
-  EXPECT_EQ(read.at("Rtabmap/WorkingDirectory"),
+  EXPECT_EQ(read.at("Db/TargetVersion"),
             "  path with spaces/and \"quotes\" ;# and = signs\n");
 }
 
@@ -91,7 +92,7 @@ TEST(ParameterIni, ReadsCommentsSectionsQuotesAndTheOriginalsBackslashKeys) {
       "Version = 0.21.4\n"
       "Rtabmap\\DetectionRate=2\n"
       "  Kp/MaxFeatures   =   400  \r\n"
-      "Rtabmap/WorkingDirectory = \"  /tmp/a \\\"b\\\"\\n\"\n"
+      "Db/TargetVersion = \"  /tmp/a \\\"b\\\"\\n\"\n"
       "Rtabmap/LoopThr =0.2\n"
       "Rtabmap/LoopThr = 0.3\n"
       "[Gui]\n"
@@ -102,7 +103,7 @@ TEST(ParameterIni, ReadsCommentsSectionsQuotesAndTheOriginalsBackslashKeys) {
   const ParametersMap read = Parameters::parseIni(text, "hand.ini");
   const ParametersMap expected = {{"Rtabmap/DetectionRate", "2"},
                                   {"Kp/MaxFeatures", "400"},
-                                  {"Rtabmap/WorkingDirectory", "  /tmp/a \"b\"\n"},
+                                  {"Db/TargetVersion", "  /tmp/a \"b\"\n"},
                                   {"Rtabmap/LoopThr", "0.3"},
                                   {"Mem/STMSize", "20"}};
   EXPECT_EQ(read, expected);
@@ -115,7 +116,7 @@ TEST(ParameterIni, MalformedLineErrorNamesFileAndLine) {
   EXPECT_NE(iniError("[Core]\n = 3\n").find("robot.ini:2:"), std::string::npos);
   EXPECT_NE(iniError("[Core\nKp/MaxFeatures = 1\n").find("robot.ini:1: malformed section"),
             std::string::npos);
-  EXPECT_NE(iniError("Rtabmap/WorkingDirectory = \"open\n").find("robot.ini:1: unterminated"),
+  EXPECT_NE(iniError("Db/TargetVersion = \"open\n").find("robot.ini:1: unterminated"),
             std::string::npos);
 }
 

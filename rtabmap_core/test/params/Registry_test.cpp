@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <filesystem>
+#include <fstream>
 #include <set>
+#include <sstream>
 
 #include "rtabmap_core/params/Parameters.h"
 
@@ -130,6 +133,61 @@ TEST(ParameterRegistry, OnlyImplementedBackEndsAreAccepted) {
   EXPECT_TRUE(Parameters::isValid("Kp/DetectorStrategy", "8"));
 }
 
+TEST(ParameterRegistry, AParameterOfTheOriginalNotImplementedHereAcceptsOnlyItsDefault) {
+  std::string why;
+  EXPECT_TRUE(Parameters::isValid("Mem/ReduceGraph", "false"));
+  EXPECT_TRUE(Parameters::isValid("Mem/ReduceGraph", "0"));
+  EXPECT_FALSE(Parameters::isValid("Mem/ReduceGraph", "true", &why));
+  EXPECT_NE(why.find("Mem/ReduceGraph"), std::string::npos) << why;
+  EXPECT_NE(why.find("not implemented here (the graph keeps every node)"), std::string::npos) << why;
+  EXPECT_NE(why.find("default \"false\""), std::string::npos) << why;
+  EXPECT_TRUE(Parameters::isValid("Mem/ImagePreDecimation", "1"));
+  EXPECT_FALSE(Parameters::isValid("Mem/ImagePreDecimation", "2"));
+  EXPECT_TRUE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.750"));
+  EXPECT_FALSE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.5"));
+  EXPECT_FALSE(Parameters::isValid("Mem/ReduceGraph", "maybe", &why));
+  EXPECT_NE(why.find("not a bool"), std::string::npos) << why;
+  EXPECT_EQ(Parameters::info("Mem/ReduceGraph").expectation(), "its default only (not implemented here)");
+}
+
+// Every declared parameter is read by the code (core, tools, ROS layer), declared not
+// implemented, or an enumeration of the one back end there is: a parameter accepted and then
+// ignored is a setting a user believes in.
+// Source text is searched for its key constant (kGroupName()) or its quoted key.
+TEST(ParameterRegistry, EveryParameterIsReadByTheCodeOrDeclaredNotImplemented) {
+  namespace fs = std::filesystem;
+  const fs::path core(RTABMAP_CORE_SOURCE_DIR);
+  std::string code;
+  std::vector<fs::path> roots{core / "src", core / "tools", core / "include"};
+  for (const fs::directory_entry& e : fs::directory_iterator(core.parent_path())) {
+    const std::string name = e.path().filename().string();
+    if (e.is_directory() && name.rfind("rtabmap_", 0) == 0 && name != "rtabmap_core") roots.push_back(e.path());
+  }
+  for (const fs::path& root : roots) {
+    if (!fs::exists(root)) continue;
+    for (const fs::directory_entry& e : fs::recursive_directory_iterator(root)) {
+      const std::string ext = e.path().extension().string();
+      if (!e.is_regular_file() || (ext != ".cpp" && ext != ".h")) continue;
+      if (e.path().string().find("/params/") != std::string::npos) continue;  // the declarations
+      std::ifstream in(e.path());
+      std::stringstream text;
+      text << in.rdbuf();
+      code += text.str();
+    }
+  }
+  ASSERT_GT(code.size(), 100000u) << "sources not found under " << core;
+  for (const ParameterInfo& p : Parameters::all()) {
+    const bool read = code.find("k" + p.group + p.name + "()") != std::string::npos ||
+                      code.find("\"" + p.key + "\"") != std::string::npos;
+    if (p.limits.choices.size() == 1) continue;  // one back end (Optimizer/Strategy): nothing to choose
+    if (p.limits.notImplemented.empty()) {
+      EXPECT_TRUE(read) << p.key << " is declared but nothing reads it: implement it or declare it NotImplemented";
+    } else {
+      EXPECT_FALSE(read) << p.key << " is read by the code but declared NotImplemented";
+    }
+  }
+}
+
 TEST(ParameterExpectation, DescribesTypeAndRangeInWords) {
   EXPECT_EQ(Parameters::info("Mem/RehearsalSimilarity").expectation(), "a float in [0, 1]");
   EXPECT_EQ(Parameters::info("Grid/CellSize").expectation(), "a float > 0");
@@ -141,7 +199,7 @@ TEST(ParameterExpectation, DescribesTypeAndRangeInWords) {
             "4 numbers separated by spaces, each in [0, 1]");
   EXPECT_EQ(Parameters::info("Mem/ImageCompressionFormat").expectation(),
             "one of \".jpg\" (JPEG, lossy and small), \".png\" (PNG, lossless)");
-  EXPECT_EQ(Parameters::info("Rtabmap/WorkingDirectory").expectation(), "text");
+  EXPECT_EQ(Parameters::info("Db/TargetVersion").expectation(), "text");
 }
 
 }  // namespace

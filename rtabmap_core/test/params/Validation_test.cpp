@@ -89,7 +89,7 @@ TEST(ParameterValidation, AcceptsTheUsualSpellingsOfValidValues) {
   EXPECT_FALSE(Parameters::isValid("Kp/MaxFeatures", " 500"));  // numbers must parse completely
   EXPECT_FALSE(Parameters::isValid("Kp/MaxFeatures", "500 "));
   EXPECT_FALSE(Parameters::isValid("Kp/MaxFeatures", ""));
-  EXPECT_TRUE(Parameters::isValid("Rtabmap/WorkingDirectory", "/tmp/with space/é"));
+  EXPECT_TRUE(Parameters::isValid("Db/TargetVersion", "/tmp/with space/é"));
 }
 
 TEST(ParameterValidation, WholeMapErrorListsEveryBadEntry) {
@@ -109,14 +109,14 @@ TEST(ParameterAccess, ReadsTheMapValueElseTheDefault) {
                                     {"Rtabmap/LoopThr", "0.2"},
                                     {"RGBD/Enabled", "FALSE"},
                                     {"Optimizer/Epsilon", "1e-4"},
-                                    {"Rtabmap/WorkingDirectory", "/tmp/maps"}};
+                                    {"Db/TargetVersion", "/tmp/maps"}};
   EXPECT_EQ(Parameters::getInt(parameters, "Kp/MaxFeatures"), 400);
   EXPECT_EQ(Parameters::getInt(parameters, "Vis/MinInliers"), 20);
   EXPECT_FLOAT_EQ(Parameters::getFloat(parameters, "Rtabmap/LoopThr"), 0.2f);
   EXPECT_DOUBLE_EQ(Parameters::getDouble(parameters, "Optimizer/Epsilon"), 1e-4);
   EXPECT_FALSE(Parameters::getBool(parameters, "RGBD/Enabled"));
   EXPECT_TRUE(Parameters::getBool(parameters, "Mem/IncrementalMemory"));
-  EXPECT_EQ(Parameters::getString(parameters, "Rtabmap/WorkingDirectory"), "/tmp/maps");
+  EXPECT_EQ(Parameters::getString(parameters, "Db/TargetVersion"), "/tmp/maps");
   EXPECT_EQ(Parameters::getString(parameters, "Kp/MaxFeatures"), "400");
   // Numbers widen: an int parameter can be read as float or double.
   EXPECT_DOUBLE_EQ(Parameters::getDouble(parameters, "Kp/MaxFeatures"), 400.0);

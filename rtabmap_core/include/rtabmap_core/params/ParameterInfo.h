@@ -30,6 +30,10 @@ struct ParameterLimits {
   // For string parameters holding whitespace-separated numbers (e.g. "0 0 0 0"): -1 when the
   // string is free text, 0 for any count >= 1, otherwise the exact count required.
   int numberListSize = -1;
+  // Non-empty: a parameter of the original that this implementation does not have (declared so
+  // that its launch files name it and get a clear answer): only its default is accepted, and
+  // any other value is an error saying this.
+  std::string notImplemented;
 };
 
 struct ParameterInfo {
