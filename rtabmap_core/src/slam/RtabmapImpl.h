@@ -120,6 +120,7 @@ struct Rtabmap::Impl {
   bool checkInput(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   bool rateLimited(double stamp);
   bool isStill(const Transform& odom) const;
+  bool tooFast(const Transform& odom, double stamp) const;
   bool mappingUpdate(const SensorData& data, const Transform& odom);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);

@@ -49,6 +49,8 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.maxLoopClosureDistance = P::getFloat(p, P::kRGBDMaxLoopClosureDistance());
   o.maxLocalRetrieved = P::getInt(p, P::kRGBDMaxLocalRetrieved());
   o.localImmunizationRatio = P::getFloat(p, P::kRGBDLocalImmunizationRatio());
+  o.linearSpeedUpdate = P::getFloat(p, P::kRGBDLinearSpeedUpdate());
+  o.angularSpeedUpdate = P::getFloat(p, P::kRGBDAngularSpeedUpdate());
   o.startAtOrigin = P::getBool(p, P::kRGBDStartAtOrigin());
   o.maxOdomCacheSize = P::getInt(p, P::kRGBDMaxOdomCacheSize());
   std::string why;

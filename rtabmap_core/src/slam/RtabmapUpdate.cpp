@@ -56,6 +56,18 @@ bool Rtabmap::Impl::isStill(const Transform& odom) const {
   return motion.getNorm() < options.linearUpdate && std::fabs(motion.getAngle()) < options.angularUpdate;
 }
 
+// RGBD/LinearSpeedUpdate, RGBD/AngularSpeedUpdate: the speed between the previous frame and this
+// one, from their odometry and stamps. While it is above a limit the map is not updated: images
+// blurred by motion make few words and a poor grid, and a fast turn smears a scan.
+bool Rtabmap::Impl::tooFast(const Transform& odom, double stamp) const {
+  if (options.linearSpeedUpdate <= 0.0f && options.angularSpeedUpdate <= 0.0f) return false;
+  if (lastOdom.isNull() || stamp <= 0.0 || lastStamp <= 0.0 || stamp <= lastStamp) return false;
+  const double dt = stamp - lastStamp;
+  const Transform motion = lastOdom.inverse() * odom;
+  return (options.linearSpeedUpdate > 0.0f && motion.getNorm() / dt > options.linearSpeedUpdate) ||
+         (options.angularSpeedUpdate > 0.0f && std::fabs(motion.getAngle()) / dt > options.angularSpeedUpdate);
+}
+
 bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const Covariance6& covariance) {
   if (!initialized) throw std::logic_error("Rtabmap::process: init() was not called");
   ++summary.updates;
@@ -80,6 +92,13 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
     ++summary.skippedRate;
     lastOdom = odom;
     if (data.stamp() > 0.0) lastStamp = data.stamp();
+    return false;
+  }
+  if (!newMapPending && tooFast(odom, data.stamp())) {
+    // The next frame is tried at once (the rate's clock did not restart).
+    ++summary.skippedSpeed;
+    lastOdom = odom;
+    lastStamp = data.stamp();
     return false;
   }
   if (newMapPending) startNewMap();

@@ -62,6 +62,30 @@ TEST(Rtabmap, PoseOnlyNodesMakeAGraphFollowingOdometry) {
   EXPECT_EQ(neighbors, 4);
 }
 
+TEST(Rtabmap, NoUpdateWhileTheRobotMovesFasterThanTheSpeedLimits) {
+  Rtabmap slam;
+  slam.init({{"Rtabmap/DetectionRate", "1"}, {"RGBD/LinearSpeedUpdate", "0.5"}, {"RGBD/AngularSpeedUpdate", "0.4"}}, "");
+  ASSERT_TRUE(slam.process(frame(1, 10.0), along(0.0), smallCov()));
+  EXPECT_TRUE(slam.process(frame(2, 11.0), along(0.3), smallCov()));         // 0.3 m/s
+  EXPECT_FALSE(slam.process(frame(3, 12.0), along(1.1), smallCov()));        // 0.8 m/s
+  EXPECT_EQ(slam.summary().skippedSpeed, 1);
+  // Slower again: updated at once, 0.2 s after the skipped frame (the rate counts from the last
+  // update, 1.2 s before).
+  EXPECT_TRUE(slam.process(frame(4, 12.2), along(1.15), smallCov()));        // 0.25 m/s
+  EXPECT_FALSE(slam.process(frame(5, 13.2), along(1.3, 0.5), smallCov()));   // turning at 0.5 rad/s
+  EXPECT_EQ(slam.summary().skippedSpeed, 2);
+  EXPECT_TRUE(slam.process(frame(6, 14.2), along(1.5, 0.6), smallCov()));    // 0.1 rad/s
+  EXPECT_EQ(slam.summary().nodesAdded, 4);
+  EXPECT_EQ(slam.summary().skippedRate, 0);
+
+  // No limit by default.
+  Rtabmap free;
+  free.init({{"Rtabmap/DetectionRate", "1"}}, "");
+  ASSERT_TRUE(free.process(frame(1, 10.0), along(0.0), smallCov()));
+  EXPECT_TRUE(free.process(frame(2, 11.0), along(5.0), smallCov()));
+  EXPECT_EQ(free.summary().skippedSpeed, 0);
+}
+
 TEST(Rtabmap, StillRobotAndRateAddNoNode) {
   Rtabmap slam;
   slam.init({{"Rtabmap/DetectionRate", "1"}}, "");

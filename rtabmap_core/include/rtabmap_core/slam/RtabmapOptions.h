@@ -54,6 +54,9 @@ struct RtabmapOptions {
   // Memory management around the robot
   int maxLocalRetrieved = 2;              // RGBD/MaxLocalRetrieved
   float localImmunizationRatio = 0.25f;   // RGBD/LocalImmunizationRatio
+  // Map updates skipped while the robot moves faster (odometry between consecutive frames)
+  float linearSpeedUpdate = 0.0f;         // RGBD/LinearSpeedUpdate (m/s, 0 = no limit)
+  float angularSpeedUpdate = 0.0f;        // RGBD/AngularSpeedUpdate (rad/s, 0 = no limit)
   // Localization
   bool startAtOrigin = false;             // RGBD/StartAtOrigin
   int maxOdomCacheSize = 10;              // RGBD/MaxOdomCacheSize
