@@ -106,15 +106,7 @@ bool isDefaultValue(const ParameterInfo& info, const std::string& value) {
   return false;
 }
 
-std::string problemWithType(const ParameterInfo& info, const std::string& value);
-
-// "" if the value suits the declaration, else a short reason ("not a whole number").
-std::string problemWith(const ParameterInfo& info, const std::string& value) {
-  const std::string problem = problemWithType(info, value);
-  if (!problem.empty() || info.limits.notImplemented.empty() || isDefaultValue(info, value)) return problem;
-  return "not implemented here (" + info.limits.notImplemented + ")";
-}
-
+// "" if the value suits the declaration's type and limits, else a short reason ("not a whole number").
 std::string problemWithType(const ParameterInfo& info, const std::string& value) {
   switch (info.type) {
     case ParameterType::kBool: {
@@ -137,6 +129,14 @@ std::string problemWithType(const ParameterInfo& info, const std::string& value)
       return withinBounds(info.limits, number) ? "" : "out of range";
     }
   }
+}
+
+// "" if the value suits the declaration, else a short reason; a parameter not implemented here
+// accepts only its default.
+std::string problemWith(const ParameterInfo& info, const std::string& value) {
+  const std::string problem = problemWithType(info, value);
+  if (!problem.empty() || info.limits.notImplemented.empty() || isDefaultValue(info, value)) return problem;
+  return "not implemented here (" + info.limits.notImplemented + ")";
 }
 
 std::string invalidValueMessage(const ParameterInfo& info, const std::string& value,

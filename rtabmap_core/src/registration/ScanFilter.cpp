@@ -31,14 +31,13 @@ bool ScanFilterOptions::IsValid(std::string* why) const {
 }
 
 LaserScan filterScan(const LaserScan& scan, const ScanFilterOptions& options, std::string* why) {
-  // ICP's own preparation does exactly this (IcpCloud.h), in the base frame.
+  // ICP's own preparation does exactly this (IcpCloud.h), in the base frame; IcpOptions'
+  // defaults set no range limit.
   IcpOptions icp;
   icp.downsamplingStep = options.downsampleStep;
   icp.voxelSize = options.voxelSize;
-  icp.rangeMin = icp.rangeMax = 0.0f;
   icp.pointToPlaneK = options.normalK;
   icp.pointToPlaneRadius = options.normalRadius;
-  icp.groundNormalsUp = 0.0f;
   const bool normals = scan.hasNormals() || options.wantsNormals();
   icp::IcpCloud prepared;
   if (!icp::prepareIcpCloud(scan, icp, normals, "node", &prepared, why, 1)) return LaserScan();

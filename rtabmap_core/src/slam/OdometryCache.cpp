@@ -9,17 +9,16 @@
 namespace rtabmap {
 namespace {
 
-// Map nodes are held where the map has them: a prior a thousand times stiffer (in standard
-// deviation) than any registration's, so that the frames move, not the map.
+// Map nodes are held where the map has them by a prior of 1 mm and 1 mrad standard deviation,
+// far stiffer than any registration: the frames move, not the map.
 const Link::InfMatrix kMapPriorInformation = Link::InfMatrix::Identity() * 1e6;
 
-std::string linkName(const Link& l, int firstFrameId) {
-  std::ostringstream s;
+// "frame 3 -> node 120": cached frames by their index, map nodes by their id.
+std::string linkName(int from, int to, int firstFrameId) {
   const auto end = [firstFrameId](int id) {
     return id >= firstFrameId ? "frame " + std::to_string(id - firstFrameId) : "node " + std::to_string(id);
   };
-  s << end(l.from()) << " -> " << end(l.to());
-  return s.str();
+  return end(from) + " -> " + end(to);
 }
 
 }  // namespace
@@ -113,7 +112,7 @@ OdometryCache::Check OdometryCache::check(const CachedLink& candidate, bool with
   if (!result.ok) {
     std::ostringstream s;
     s << "with the " << frames_.size() << " cached frames, link "
-      << linkName(Link(worst->from, worst->to, worst->type, Transform::Identity()), firstFrame) << " is off by "
+      << linkName(worst->from, worst->to, firstFrame) << " is off by "
       << worst->translationalError << " m / " << worst->angularError << " rad, " << result.worstRatio
       << " standard deviations (RGBD/OptimizeMaxError " << options_.maxErrorRatio << ")";
     result.why = s.str();

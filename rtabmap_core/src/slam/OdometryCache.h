@@ -65,7 +65,6 @@ class OdometryCache {
 
   size_t frames() const { return frames_.size(); }
   size_t links() const;  // localization links cached
-  const OdometryCacheOptions& options() const { return options_; }
 
  private:
   struct Frame {
