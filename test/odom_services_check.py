@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Checks odom_services.test: while the ACES excerpt plays, pause_odom / resume_odom stop and
 restart the updates, reset_odom_to_pose and reset_odom restart at the asked pose, and
-odom_local_map / odom_last_frame publish non-empty clouds in the odometry frame."""
+odom_local_map / odom_last_frame publish non-empty clouds in the odometry frame; the bag
+played again from its start (ROS time back) restarts odometry at the origin."""
 import math
 import os
 import subprocess
@@ -69,6 +70,20 @@ class OdomServices(unittest.TestCase):
         finally:
             player.terminate()
             player.wait(timeout=10)
+
+        # The bag played again from its start (ROS time jumps back): odometry restarts at the
+        # origin, not at the pose it had (moved far away first, so the two cannot be confused).
+        reset_to(x=20.0, y=20.0, z=0.0, roll=0.0, pitch=0.0, yaw=0.0)
+        n = len(odoms)
+        player = subprocess.Popen(["rosbag", "play", "--clock", "-q", "-r", str(rospy.get_param("~rate", 2)), bag],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            self.assertTrue(oc.wait_for(lambda: len(odoms) >= n + 3, 30), "no odometry after the bag restarted")
+        finally:
+            player.terminate()
+            player.wait(timeout=10)
+        p = odoms[n].pose.pose
+        self.assertLess(math.hypot(p.position.x, p.position.y), MOVE, f"first pose after the bag restarted {p}")
 
         self.assertGreater(len(local_maps), 0, "odom_local_map not published")
         self.assertGreater(len(last_frames), 0, "odom_last_frame not published")

@@ -165,6 +165,13 @@ rtabmap::Transform OdometryNodelet::guessMotion(const ros::Time& stamp, rtabmap:
 void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (paused_ || !odometry_) return;
+  if (d.clockJumps != clockJumpsSeen_) {
+    // ROS time went back: a bag played again or a simulator reset. Its sensors start over where
+    // they started, so odometry does too (and rtabmap starts a new map).
+    clockJumpsSeen_ = d.clockJumps;
+    NODELET_WARN("%s: ROS time jumped back; odometry restarts at the origin.", getName().c_str());
+    resetLocked(rtabmap::Transform::Identity());
+  }
   const ros::Time stamp = d.stamp;
   if (!limiter_.accept(stamp.toSec())) return;
   std::string error;
@@ -268,6 +275,10 @@ void OdometryNodelet::publishClouds(const rtabmap::SensorData& frame, const rtab
 
 void OdometryNodelet::resetTo(const rtabmap::Transform& pose) {
   std::lock_guard<std::mutex> lock(mutex_);
+  resetLocked(pose);
+}
+
+void OdometryNodelet::resetLocked(const rtabmap::Transform& pose) {
   odometry_->reset(pose);
   previousStamp_ = ros::Time();
   lastMotion_ = rtabmap::Transform();

@@ -99,6 +99,7 @@ class OdometryNodelet : public nodelet::Nodelet {
   void publishClouds(const rtabmap::SensorData& frame, const rtabmap::Transform& pose, const std_msgs::Header& header);
   void reportLost(const rtabmap::OdometryInfo& info, const ros::Time& stamp);
   void resetTo(const rtabmap::Transform& pose);
+  void resetLocked(const rtabmap::Transform& pose);  // mutex_ held
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool onResetToPose(rtabmap_ros::ResetPose::Request& req, rtabmap_ros::ResetPose::Response&);
   bool onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
@@ -120,6 +121,7 @@ class OdometryNodelet : public nodelet::Nodelet {
   ros::Time previousStamp_;  // stamp of the previous processed frame (for the guess)
   rtabmap::Transform lastMotion_;  // see lastMotion()
   double lastInterval_ = 0.0;
+  long clockJumpsSeen_ = 0;  // rtabmap_sync's count of ROS time jumping back, as last handled
   rtabmap_odom::UpdateRateLimiter limiter_;
   int updatesSinceWatch_ = 0;
   ros::WallTime lastWatch_;

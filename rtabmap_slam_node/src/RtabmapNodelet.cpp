@@ -254,6 +254,12 @@ void RtabmapNodelet::stopCore() {
 void RtabmapNodelet::onData(const rtabmap_sync::SyncedData& d) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (paused_ || !core_) return;
+  if (d.clockJumps != clockJumpsSeen_) {
+    // A restarted bag or simulator: its stamps start over, and so does its odometry.
+    clockJumpsSeen_ = d.clockJumps;
+    previousOdomCovariance_.reset();
+    core_->clockJumpedBack();
+  }
   std::string error;
   rtabmap::Transform odomPose;
   rtabmap_slam_node::Covariance6 covariance;

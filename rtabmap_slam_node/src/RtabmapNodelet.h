@@ -237,6 +237,7 @@ class RtabmapNodelet : public nodelet::Nodelet {
   bool mapping_ = true;
   bool paused_ = false;
   std::optional<rtabmap_slam_node::Covariance6> previousOdomCovariance_;  // cumulative odometry
+  long clockJumpsSeen_ = 0;  // rtabmap_sync's count of ROS time jumping back, as last handled
 
   std::mutex tfMutex_;  // map -> odom for the timer (never waits on an update)
   rtabmap::Transform mapToOdom_ = rtabmap::Transform::Identity();

@@ -104,6 +104,7 @@ struct DataSubscriber::Impl {
   LogThrottle errors;
   DropCounter drops;
   long dropsWarned = 0;  // drops.dropped() at the last warning
+  long clockJumps = 0;   // ROS time seen going back (SyncedData::clockJumps)
 
   // Stop the callbacks before the synchroniser and the node's callback go away.
   ~Impl() {
@@ -192,6 +193,7 @@ struct DataSubscriber::Impl {
                last.toSec());
       for (ros::Time& t : lastStamps) t = ros::Time();
       drops.resetStamps();
+      ++clockJumps;
     }
     if (!last.isZero() && stamp <= last) {
       ++dropped;
@@ -234,6 +236,7 @@ struct DataSubscriber::Impl {
     {
       std::lock_guard<std::mutex> lock(mutex);
       ++delivered;
+      data.clockJumps = clockJumps;
       lastDelivery = ros::WallTime::now();
       for (TopicStatus& s : status) s.received = 0;
       std::vector<double> stamps;

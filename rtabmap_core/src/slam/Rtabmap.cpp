@@ -101,6 +101,18 @@ void Rtabmap::triggerNewMap() {
   impl_->newMapPending = true;
 }
 
+void Rtabmap::clockJumpedBack() {
+  Impl& m = *impl_;
+  m.lastStamp = 0.0;
+  m.lastUpdateStamp = -1.0;
+  m.odometryCache.clear();
+  m.cacheMotion.setZero();
+  if (m.options.incremental && m.lastNodeId != 0) {
+    RTABMAP_WARN("the clock went back (a restarted bag or simulator): starting a new map");
+    m.newMapPending = true;
+  }
+}
+
 bool Rtabmap::setLabel(int nodeId, const std::string& label) {
   if (!impl_->detector) return false;
   const int owner = nodeOfLabelIn(impl_->labelCache, label);

@@ -138,6 +138,25 @@ TEST(Rtabmap, StampsGoingBackwardsAreRefusedUnlessOdometryRestarts) {
   EXPECT_EQ(slam.summary().mapsStarted, 2);
 }
 
+// The ROS layer saw ROS time jump back (a bag played again): older stamps are accepted again and
+// a new map starts even when the first frame after the restart is not at the odometry origin.
+TEST(Rtabmap, ClockJumpingBackAcceptsOlderStampsInANewMap) {
+  Rtabmap slam;
+  slam.init(everyFrame(), "");
+  ASSERT_TRUE(slam.process(frame(1, 10.0), along(0.0), smallCov()));
+  ASSERT_TRUE(slam.process(frame(2, 11.0), along(1.0), smallCov()));
+  const int firstMap = slam.mapId();
+  ASSERT_FALSE(slam.process(frame(3, 0.5), along(0.1), smallCov()));
+  slam.clockJumpedBack();
+  EXPECT_TRUE(slam.process(frame(3, 0.5), along(0.1), smallCov())) << slam.lastRejection();
+  EXPECT_EQ(slam.mapId(), firstMap + 1);
+  EXPECT_EQ(slam.optimizedPoses().size(), 1u);
+  // The new timeline is ordered again.
+  EXPECT_TRUE(slam.process(frame(4, 1.5), along(0.6), smallCov()));
+  EXPECT_FALSE(slam.process(frame(5, 1.0), along(0.7), smallCov()));
+  EXPECT_EQ(slam.mapId(), firstMap + 1);
+}
+
 TEST(Rtabmap, OdometryResetStartsANewMapNotLinkedToTheOldOne) {
   Rtabmap slam;
   slam.init(everyFrame(), "");

@@ -43,6 +43,9 @@ struct SyncedData {
   rtabmap_ros::OdomInfoConstPtr odomInfo;
   rtabmap_ros::UserDataConstPtr userData;
   ros::Time stamp;  // stamp of the first topic (the camera when there is one)
+  // Times ROS time was seen jumping back (a restarted bag) before this set: a change tells the
+  // node that its input started over (the SLAM core starts a new map, odometry resets).
+  long clockJumps = 0;
 };
 
 // subscribe_*, rgbd_cameras, approx_sync, approx_sync_max_interval and queue_size from the

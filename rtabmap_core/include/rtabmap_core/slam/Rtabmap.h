@@ -133,6 +133,12 @@ class Rtabmap {
 
   // Starts a new map (new map id) at the next update, as an odometry reset does.
   void triggerNewMap();
+  // The input's clock went back (ROS time jumped back: a bag played again, a simulator reset).
+  // The previous stamps are forgotten, so the older ones are accepted again. Mapping: the next
+  // update starts a new map, because odometry restarted with the clock (its first pose need not
+  // be the identity: the first frames may be lost while tf refills). Localization: the odometry
+  // cache is cleared; map -> odom is kept until the next localisation.
+  void clockJumpedBack();
   // Where the robot is in the map frame, given by the user (rviz's "2D Pose Estimate", the
   // node's initial_pose) (RtabmapInitialPose.cpp). Localization: the robot is assumed at `pose`
   // until it localises (instead of the last session's last pose, RGBD/StartAtOrigin), so the
