@@ -1,8 +1,6 @@
 #include "VisualInput.h"
 
-#include <opencv2/imgproc.hpp>
-
-#include "rtabmap_core/features/DepthFeatures.h"
+#include "rtabmap_core/geometry/ImageDecimation.h"
 
 namespace rtabmap::odometry_detail {
 
@@ -51,62 +49,11 @@ std::string checkVisualInput(const SensorData& data) {
   return std::string();
 }
 
-namespace {
-
-// Each of the n side-by-side sub-images shrunk by area averaging on its own: shrinking the whole
-// image would average pixels across a camera boundary and, when a camera's width is not a
-// multiple of the decimation, move the boundaries off the columns the models expect.
-cv::Mat shrinkSideBySide(const cv::Mat& image, int n, int decimation) {
-  const int w = image.cols / n;
-  const cv::Size size(w / decimation, image.rows / decimation);
-  std::vector<cv::Mat> parts(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    cv::resize(image.colRange(i * w, (i + 1) * w), parts[static_cast<size_t>(i)], size, 0, 0, cv::INTER_AREA);
-  }
-  if (n == 1) return parts.front();
-  cv::Mat out;
-  cv::hconcat(parts, out);
-  return out;
-}
-
-// The frame shrunk by `decimation` (images by area averaging, depth by picking pixels, camera
-// models scaled), or the frame itself for 1.
-SensorData decimate(const SensorData& data, int decimation) {
-  if (decimation <= 1) return data;
-  SensorData out = data;
-  const cv::Mat& image = data.imageRaw();
-  if (data.isStereo()) {
-    // Every camera's model: the cameras stay side by side, each shrunk by the same factor.
-    const int n = static_cast<int>(data.stereoCameraModels().size());
-    std::vector<StereoCameraModel> models;
-    for (const StereoCameraModel& m : data.stereoCameraModels()) models.push_back(m.scaled(1.0 / decimation));
-    out.setStereoImage(shrinkSideBySide(image, n, decimation),
-                       shrinkSideBySide(data.depthOrRightRaw(), n, decimation), models);
-    return out;
-  }
-  const cv::Size size(image.cols / decimation, image.rows / decimation);
-  cv::Mat small;
-  cv::resize(image, small, size, 0, 0, cv::INTER_AREA);
-  std::vector<CameraModel> models;
-  for (const CameraModel& m : data.cameraModels()) models.push_back(m.scaled(1.0 / decimation));
-  cv::Mat depth = data.depthOrRightRaw();
-  // Depth larger than the shrunk image: pick its pixels (never average depths across edges).
-  if (!depth.empty() && depth.cols > size.width && depthDecimationFactor(image.size(), depth.size()) > 0) {
-    cv::Mat d;
-    cv::resize(depth, d, size, 0, 0, cv::INTER_NEAREST);
-    depth = d;
-  }
-  out.setRGBDImage(small, depth, models);
-  return out;
-}
-
-}  // namespace
-
 PreparedVisualFrame prepareVisualFrame(SensorData& data, const FeatureDetector& detector, int decimation) {
   PreparedVisualFrame prepared;
   prepared.problem = checkVisualInput(data);
   if (!prepared.problem.empty()) return prepared;
-  const SensorData frame = decimate(data, decimation);
+  const SensorData frame = decimateImages(data, decimation);
   const ImageFeatures features = detector.extract(frame, &prepared.extraction);
   if (!prepared.extraction.problem.empty()) {
     prepared.problem = prepared.extraction.problem;
@@ -118,12 +65,7 @@ PreparedVisualFrame prepareVisualFrame(SensorData& data, const FeatureDetector& 
   }
   prepared.frame = VisualFrame::fromSensorData(frame, features, detector.options().stereo);
   std::vector<cv::KeyPoint> fullResolution = features.keypoints;
-  if (decimation > 1) {
-    for (cv::KeyPoint& k : fullResolution) {
-      k.pt *= static_cast<float>(decimation);
-      k.size *= static_cast<float>(decimation);
-    }
-  }
+  scaleKeypoints(fullResolution, static_cast<float>(decimation));
   data.setFeatures(fullResolution, features.points3D, features.descriptors);
   return prepared;
 }

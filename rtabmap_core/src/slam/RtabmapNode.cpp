@@ -5,26 +5,32 @@
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/geometry/ImageDecimation.h"
 #include "rtabmap_core/maps/LocalGridMaker.h"
 
 namespace rtabmap {
 
+// The words' keypoints are in the image the node keeps, Mem/ImagePostDecimation times smaller
+// than the input: visual registration pairs them with the kept camera models.
 void Rtabmap::Impl::extractWords(const SensorData& data, memory::LocationInput& in) {
   if (!wordDetector) return;
-  // Mem/UseOdomFeatures: odometry already extracted features of the same kind; Memory keeps
-  // the Kp/MaxFeatures strongest of them.
+  const float toKept = 1.f / static_cast<float>(options.imagePostDecimation);
+  // Mem/UseOdomFeatures: odometry already extracted features of the same kind (full-size
+  // keypoints); Memory keeps the Kp/MaxFeatures strongest of them.
   if (options.useOdomFeatures && odomFeaturesCompatible && !data.keypoints().empty() &&
       data.descriptors().rows == static_cast<int>(data.keypoints().size())) {
     in.keypoints = data.keypoints();
+    scaleKeypoints(in.keypoints, toKept);
     in.descriptors = data.descriptors();
     if (data.keypoints3D().size() == data.keypoints().size()) in.points3D = data.keypoints3D();
     return;
   }
   if (data.imageRaw().empty()) return;
   FeatureExtractionInfo info;
-  ImageFeatures f = wordDetector->extract(data, &info);
+  ImageFeatures f = wordDetector->extract(decimateImages(data, options.imagePreDecimation), &info);
   if (!info.problem.empty()) RTABMAP_DEBUG("no visual words for frame " << data.id() << ": " << info.problem);
   in.keypoints = std::move(f.keypoints);
+  scaleKeypoints(in.keypoints, static_cast<float>(options.imagePreDecimation) * toKept);
   in.descriptors = f.descriptors;
   in.points3D = std::move(f.points3D);
 }
@@ -68,6 +74,7 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
     // Working Memory holds images compressed (what the database stores); the scan stays raw
     // too, as proximity detection matches it again and again.
     StageTimer t(stats, Statistics::kTimingMemCompressing_data);
+    data = decimateImages(data, options.imagePostDecimation);  // after the local grid: it uses all pixels
     data.compress(options.imageFormat);
     if (!options.imageKept) {
       const LaserScan scan = data.laserScanRaw();

@@ -20,6 +20,8 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.covOffDiagIgnored = P::getBool(p, P::kMemCovOffDiagIgnored());
   o.imageKept = P::getBool(p, P::kMemImageKept());
   o.imageFormat = P::getString(p, P::kMemImageCompressionFormat());
+  o.imagePreDecimation = P::getInt(p, P::kMemImagePreDecimation());
+  o.imagePostDecimation = P::getInt(p, P::kMemImagePostDecimation());
   o.mapLabelsAdded = P::getBool(p, P::kMemMapLabelsAdded());
   o.initWMWithAllNodes = P::getBool(p, P::kMemInitWMWithAllNodes());
   o.regStrategy = P::getInt(p, P::kRegStrategy());
@@ -83,6 +85,9 @@ bool RtabmapOptions::IsValid(std::string* why) const {
     return fail(Parameters::kRGBDNeighborLinkRefiningPrior() + " must be >= 0");
   }
   if (!(optimizeMaxError >= 0.0f)) return fail(Parameters::kRGBDOptimizeMaxError() + " must be >= 0");
+  if (imagePreDecimation < 1 || imagePostDecimation < 1) {
+    return fail("Mem/ImagePreDecimation and Mem/ImagePostDecimation must be >= 1");
+  }
   if (!incremental && !metric) {
     return fail(Parameters::kMemIncrementalMemory() + " false (localization) needs " + Parameters::kRGBDEnabled() + " true");
   }

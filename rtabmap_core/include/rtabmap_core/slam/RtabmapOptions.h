@@ -21,6 +21,8 @@ struct RtabmapOptions {
   bool covOffDiagIgnored = true;          // Mem/CovOffDiagIgnored
   bool imageKept = false;                 // Mem/ImageKept
   std::string imageFormat = ".jpg";       // Mem/ImageCompressionFormat
+  int imagePreDecimation = 1;             // Mem/ImagePreDecimation
+  int imagePostDecimation = 1;            // Mem/ImagePostDecimation
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
   bool initWMWithAllNodes = false;        // Mem/InitWMWithAllNodes
   // Links

@@ -1,0 +1,110 @@
+// Mem/ImagePreDecimation and Mem/ImagePostDecimation: words found in a shrunk image, a node that
+// keeps shrunk images, and in every combination keypoints that lie where their 3D points
+// project in the image the node keeps (what visual registration of a loop closure relies on).
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "PoseOnlyFrames.h"
+#include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/slam/Rtabmap.h"
+
+namespace rtabmap {
+namespace {
+
+constexpr int kWidth = 640, kHeight = 480;
+
+// Blocks of random grey levels (corners everywhere) over a slanted plane 1.5-2.5 m away.
+SensorData texturedFrame(int id, double stamp) {
+  cv::Mat blocks(kHeight / 16, kWidth / 16, CV_8UC1);
+  cv::RNG rng(7);
+  rng.fill(blocks, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat grey, rgb;
+  cv::resize(blocks, grey, cv::Size(kWidth, kHeight), 0, 0, cv::INTER_NEAREST);
+  cv::cvtColor(grey, rgb, cv::COLOR_GRAY2BGR);
+  cv::Mat depth(kHeight, kWidth, CV_32FC1);
+  for (int u = 0; u < kWidth; ++u) depth.col(u).setTo(1.5f + static_cast<float>(u) / kWidth);
+  const CameraModel model(525.0, 525.0, 319.5, 239.5, CameraModel::opticalRotation(), 0.0,
+                          cv::Size(kWidth, kHeight));
+  return SensorData(rgb, depth, model, id, stamp);
+}
+
+struct Decimations {
+  int pre, post;
+};
+
+class NodeImageDecimation : public ::testing::TestWithParam<Decimations> {};
+
+TEST_P(NodeImageDecimation, KeptImagesShrinkAndWordsStayOnThem) {
+  const auto [pre, post] = GetParam();
+  Rtabmap slam;
+  ParametersMap p = test::everyFrame();
+  p["Mem/ImagePreDecimation"] = std::to_string(pre);
+  p["Mem/ImagePostDecimation"] = std::to_string(post);
+  slam.init(p, "");
+  ASSERT_TRUE(slam.process(texturedFrame(1, 1.0), Transform::Identity(), test::smallCov())) << slam.lastRejection();
+  const std::optional<Signature> node = slam.node(slam.lastNodeId());
+  ASSERT_TRUE(node.has_value());
+  SensorData data = node->sensorData();
+  data.uncompress(true, true, false, false);
+  EXPECT_EQ(data.imageRaw().cols, kWidth / post);
+  EXPECT_EQ(data.imageRaw().rows, kHeight / post);
+  EXPECT_EQ(data.depthOrRightRaw().cols, kWidth / post);
+  ASSERT_EQ(data.cameraModels().size(), 1u);
+  const CameraModel& model = data.cameraModels().front();
+  EXPECT_NEAR(model.fx(), 525.0 / post, 1e-6);
+  EXPECT_EQ(model.imageSize(), data.imageRaw().size());
+
+  const std::vector<cv::KeyPoint>& kpts = node->getWordsKpts();
+  const std::vector<cv::Point3f>& points = node->getWords3();
+  ASSERT_GT(kpts.size(), 50u);
+  ASSERT_EQ(points.size(), kpts.size());
+  const Transform toCamera = model.localTransform().inverse();
+  int checked = 0;
+  for (size_t i = 0; i < kpts.size(); ++i) {
+    const cv::Point2f& k = kpts[i].pt;
+    EXPECT_TRUE(k.x >= 0 && k.y >= 0 && k.x < data.imageRaw().cols && k.y < data.imageRaw().rows) << k;
+    if (!std::isfinite(points[i].x)) continue;
+    const Eigen::Vector3d c = toCamera.toEigen() * Eigen::Vector3d(points[i].x, points[i].y, points[i].z);
+    double u, v;
+    ASSERT_TRUE(model.reproject(c.x(), c.y(), c.z(), u, v));
+    // The models scale as ROS binning does (fx / b, cx / b): exact up to float rounding. A
+    // keypoint left in the coordinates of the image it was found in is pixels away.
+    EXPECT_NEAR(u, k.x, 0.02) << "word " << i;
+    EXPECT_NEAR(v, k.y, 0.02) << "word " << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 50);
+}
+
+INSTANTIATE_TEST_SUITE_P(PrePost, NodeImageDecimation,
+                         ::testing::Values(Decimations{1, 1}, Decimations{2, 2}, Decimations{1, 2}, Decimations{2, 1},
+                                           Decimations{4, 2}),
+                         [](const ::testing::TestParamInfo<Decimations>& i) {
+                           return "pre" + std::to_string(i.param.pre) + "_post" + std::to_string(i.param.post);
+                         });
+
+TEST(NodeImageDecimation, PreDecimationFindsWordsInTheSmallerImage) {
+  auto words = [](int pre) {
+    Rtabmap slam;
+    ParametersMap p = test::everyFrame();
+    p["Mem/ImagePreDecimation"] = std::to_string(pre);
+    p["Kp/MaxFeatures"] = "0";  // every keypoint the detector finds
+    slam.init(p, "");
+    EXPECT_TRUE(slam.process(texturedFrame(1, 1.0), Transform::Identity(), test::smallCov()));
+    return slam.node(slam.lastNodeId())->getWordsKpts().size();
+  };
+  const size_t full = words(1), quarter = words(4);
+  EXPECT_GT(quarter, 0u);
+  EXPECT_LT(quarter, full) << "a 160x120 image has fewer corners than a 640x480 one";
+}
+
+TEST(NodeImageDecimation, DecimationBelowOneIsRefused) {
+  Rtabmap slam;
+  ParametersMap p = test::everyFrame();
+  p["Mem/ImagePostDecimation"] = "0";
+  EXPECT_THROW(slam.init(p, ""), ParameterError);
+}
+
+}  // namespace
+}  // namespace rtabmap
