@@ -143,6 +143,8 @@ struct Rtabmap::Impl {
   memory::LocationInput makeLocation(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void extractWords(const SensorData& data, memory::LocationInput& in);
   void refineNeighborLink(int newId);
+  // RGBD/ProximityByTime (ProximityByTime.h): the links added to memory, for the optimisation.
+  std::vector<Link> proximityByTime(int newId);
   // Registration of an accepted hypothesis; the link, or nullopt (rejected, reason logged).
   // checkDistance: refuse a link that moves the robot more than RGBD/MaxLoopClosureDistance
   // from where the graph puts it (not before a first localization: the robot is anywhere);

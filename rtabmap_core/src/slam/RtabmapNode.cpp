@@ -2,6 +2,7 @@
 // words, local occupancy grid, compressed sensor data, odometry pose and link information; and
 // the registrations that give links their transforms.
 #include "OdometryPrior.h"
+#include "ProximityByTime.h"
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
@@ -139,6 +140,20 @@ void Rtabmap::Impl::refineNeighborLink(int newId) {
     const Transform previousPose = graph.pose(to);
     if (!previousPose.isNull()) graph.setPose(newId, mapId, previousPose * t);
   }
+}
+
+std::vector<Link> Rtabmap::Impl::proximityByTime(int newId) {
+  if (!options.proximityByTime) return {};
+  StageTimer timer(stats, Statistics::kTimingProximity_by_time);
+  memory::Memory& memory = detector->memory();
+  const ProximityByTimeResult r =
+      detectProximityByTime(memory, newId, ramPosesOfGroup(), *registration, options.covOffDiagIgnored);
+  for (const Link& l : r.links) {
+    memory.addLink(l);
+    detector->linksChanged({l.from(), l.to()});
+  }
+  for (const std::string& why : r.rejections) RTABMAP_DEBUG(why);
+  return r.links;
 }
 
 std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId, bool checkDistance,

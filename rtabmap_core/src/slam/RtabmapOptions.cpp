@@ -31,6 +31,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.neighborLinkRefiningPrior = P::getFloat(p, P::kRGBDNeighborLinkRefiningPrior());
   o.loopCovLimited = P::getBool(p, P::kRGBDLoopCovLimited());
   o.proximityBySpace = P::getBool(p, P::kRGBDProximityBySpace());
+  o.proximityByTime = P::getBool(p, P::kRGBDProximityByTime());
   o.localRadius = P::getFloat(p, P::kRGBDLocalRadius());
   o.proximityMaxGraphDepth = P::getInt(p, P::kRGBDProximityMaxGraphDepth());
   o.proximityMaxPaths = P::getInt(p, P::kRGBDProximityMaxPaths());

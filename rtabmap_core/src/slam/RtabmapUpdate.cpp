@@ -163,6 +163,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     }
     if (options.neighborLinkRefining && !firstOfMap) refineNeighborLink(newId);
   }
+  const std::vector<Link> timeLinks = options.metric && !added.merged ? proximityByTime(newId) : std::vector<Link>();
 
   // --- loop closure detection, verified by registration in metric SLAM, else by epipolar
   // geometry (VhEp/Enabled) ---
@@ -215,10 +216,12 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
 
   // --- optimisation of the local map, map -> odom ---
   if (options.metric) {
-    if (!newLinks.empty() || !u.retrieved.empty()) {
+    if (!newLinks.empty() || !timeLinks.empty() || !u.retrieved.empty()) {
+      const bool onlyAClosure = newLinks.size() == 1 && newLinks.front().type() == Link::kGlobalClosure;
+      newLinks.insert(newLinks.end(), timeLinks.begin(), timeLinks.end());
       std::vector<Link> kept = optimizeLocalMap(newId, newLinks);
       summary.rejectedLinks += static_cast<int>(newLinks.size() - kept.size());
-      if (kept.empty() && newLinks.size() == 1 && newLinks.front().type() == Link::kGlobalClosure) {
+      if (kept.empty() && onlyAClosure) {
         // The graph refused the closure (RGBD/OptimizeMaxError): without a jump limit, that is
         // how a true closure against a wrong merge ends, a vote against the merge as well.
         newLinks = arbitrateMerge(newId, newLinks.front());
@@ -226,16 +229,21 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
         summary.rejectedLinks += static_cast<int>(newLinks.size() - kept.size());
       }
       recordMergeLinks(kept);
+      int timeKept = 0;
       for (const Link& l : kept) {
         if (l.type() == Link::kGlobalClosure) {
           ++summary.loopClosures;
           stats.loopClosureId = l.to();
           stats.loopClosureTransform = l.transform();
+        } else if (l.type() == Link::kLocalTimeClosure) {
+          ++summary.timeLinks;
+          ++timeKept;
         } else {
           ++summary.proximityLinks;
           stats.proximityDetectionId = l.to();
         }
       }
+      if (options.proximityByTime) stats.addStatistic(Statistics::kProximityTime_detections, static_cast<float>(timeKept));
     }
     const Transform pose = graph.pose(newId);
     if (!pose.isNull()) {

@@ -91,6 +91,7 @@ void runSimSlam(const std::string& folder, const ParametersMap& parameters, cons
   run.summary.nodesAdded += s.nodesAdded;
   run.summary.loopClosures += s.loopClosures;
   run.summary.proximityLinks += s.proximityLinks;
+  run.summary.timeLinks += s.timeLinks;
   run.summary.rejectedLinks += s.rejectedLinks;
   run.summary.localizations += s.localizations;
   run.summary.mapsStarted += s.mapsStarted;

@@ -46,6 +46,7 @@ TEST(SimSlam, LoopClosesVisuallyThenLocalizesWithoutWriting) {
                                             {Link::kGlobalClosure, Link::kLocalSpaceClosure}, &closures);
   EXPECT_GE(closures, 5);
   EXPECT_LT(worst, 0.10) << "a loop closure or proximity link is wrong";
+  EXPECT_EQ(run.summary.timeLinks, 0) << "RGBD/ProximityByTime is off by default";
   const double odomAte = test::nodeAte(run.odometry, run.groundTruth);
   const double slamAte = test::nodeAte(run.optimized, run.groundTruth);
   RecordProperty("odom_ate", std::to_string(odomAte));
@@ -63,6 +64,31 @@ TEST(SimSlam, LoopClosesVisuallyThenLocalizesWithoutWriting) {
   EXPECT_GT(again.summary.localizations, 20);
   EXPECT_EQ(fileBytes(db), before) << "localization modified the database";
   EXPECT_FALSE(std::filesystem::exists(db + "-wal") && std::filesystem::file_size(db + "-wal") > 0);
+}
+
+// RGBD/ProximityByTime: the new node is registered against the Short-Term Memory nodes it is not
+// linked to; the links found are right (ground truth) and join nodes that were in Short-Term
+// Memory together.
+TEST(SimSlam, ProximityByTimeLinksRecentNodesCorrectly) {
+  REQUIRE_SIM(folder, "loop");
+  ParametersMap p = test::simSlamParameters();
+  p["RGBD/ProximityByTime"] = "true";
+  SimSlamRun run;
+  test::runSimSlam(folder, p, "", run);
+  int count = 0;
+  std::string which;
+  const double worst = test::worstLinkError(run.links, run.groundTruth, {Link::kLocalTimeClosure}, &count, &which);
+  RecordProperty("time_links", count);
+  EXPECT_GT(count, 20);
+  EXPECT_EQ(count, run.summary.timeLinks);
+  EXPECT_LT(worst, 0.10) << "proximity link by time " << which;
+  const int stm = Parameters::defaultMemSTMSize();
+  for (const auto& [from, link] : run.links) {
+    if (link.type() != Link::kLocalTimeClosure) continue;
+    EXPECT_GT(std::abs(link.from() - link.to()), 1) << "consecutive nodes have their odometry link already";
+    EXPECT_LE(std::abs(link.from() - link.to()), stm) << link.from() << "->" << link.to();
+  }
+  EXPECT_LT(test::nodeAte(run.optimized, run.groundTruth), 0.5 * test::nodeAte(run.odometry, run.groundTruth));
 }
 
 // Reproducible runs: the same input and parameters give the same map, to the bit (the

@@ -123,6 +123,7 @@ nlohmann::json SlamStage::toJson(double datasetSeconds) const {
   j["sessions"] = sessions_;
   j["loop_closures"] = s.loopClosures;
   j["proximity_links"] = s.proximityLinks;
+  j["time_proximity_links"] = s.timeLinks;
   j["rejected_links"] = s.rejectedLinks;
   j["localizations"] = s.localizations;
   j["refused"] = s.refused;

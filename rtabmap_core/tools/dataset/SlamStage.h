@@ -32,7 +32,7 @@ class SlamStage {
   // per-scan metrics such as the Radish relations) and DIR/grid.pgm + .yaml + .png when there
   // is a grid.
   void finish();
-  // frames, nodes, sessions, loop_closures, proximity_links, rejected_links, slam_ms_* ,
+  // frames, nodes, sessions, loop_closures, proximity_links, time_proximity_links, rejected_links, slam_ms_* ,
   // slam_stage_ms (Timing/* median and p99), max_wm_size, realtime_factor, ate_rmse (against the frames' ground truth).
   nlohmann::json toJson(double datasetSeconds) const;
   const Rtabmap& rtabmap() const { return rtabmap_; }

@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     cli.addOption("threads", "N", "OpenCV threads (0 = OpenCV's default, 1 = single core as the bench).", "0");
     cli.addNote("With --json, the last stdout line is a JSON object: frames, lost, key_frames, odom_ms_median, "
                 "odom_ms_mean, odom_ms_max, odom_ate_rmse (and mean, median, max) when there is ground truth; "
-                "with --slam also nodes, sessions, loop_closures, proximity_links, rejected_links, "
+                "with --slam also nodes, sessions, loop_closures, proximity_links, time_proximity_links, rejected_links, "
                 "slam_ms_median, slam_ms_p99, slam_ms_max, max_wm_size, realtime_factor and ate_rmse (optimised "
                 "poses). `--json FILE.json` also writes it to FILE.json.");
     cli.addNote("Example (2D lidar SLAM on wheel odometry): rtabmap-dataset --format carmen --odom wheel --slam "

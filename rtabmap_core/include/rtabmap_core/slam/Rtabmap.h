@@ -69,6 +69,7 @@ struct SlamSummary {
   int refused = 0;            // bad input (see lastRejection())
   int loopClosures = 0;       // global loop closures linked
   int proximityLinks = 0;     // proximity links by space
+  int timeLinks = 0;          // proximity links by time (RGBD/ProximityByTime)
   int rejectedLinks = 0;      // hypotheses whose registration failed + links undone by OptimizeMaxError
   int localizations = 0;      // localization mode: updates localised on the map
   int mapsStarted = 0;        // maps (sessions) started, the first one included

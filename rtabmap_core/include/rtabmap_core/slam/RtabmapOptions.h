@@ -34,6 +34,7 @@ struct RtabmapOptions {
   bool loopCovLimited = false;            // RGBD/LoopCovLimited
   // Proximity detection by space (SPLAM paper, 3.3.3)
   bool proximityBySpace = true;           // RGBD/ProximityBySpace
+  bool proximityByTime = false;           // RGBD/ProximityByTime
   float localRadius = 10.0f;              // RGBD/LocalRadius (m)
   int proximityMaxGraphDepth = 50;        // RGBD/ProximityMaxGraphDepth (0 = no limit)
   int proximityMaxPaths = 3;              // RGBD/ProximityMaxPaths (0 = no limit)
