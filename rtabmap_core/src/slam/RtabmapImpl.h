@@ -122,6 +122,9 @@ struct Rtabmap::Impl {
   bool isStill(const Transform& odom) const;
   bool tooFast(const Transform& odom, double stamp) const;
   bool mappingUpdate(const SensorData& data, const Transform& odom);
+  // Rtabmap/StartNewMapOnLoopClosure.
+  bool earlierMapExists() const;
+  void discardFirstNode(int id);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
   // The robot stands still, no update comes: graph changes the global grid deferred

@@ -23,6 +23,8 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.imagePreDecimation = P::getInt(p, P::kMemImagePreDecimation());
   o.imagePostDecimation = P::getInt(p, P::kMemImagePostDecimation());
   o.mapLabelsAdded = P::getBool(p, P::kMemMapLabelsAdded());
+  o.startNewMapOnLoopClosure = P::getBool(p, P::kRtabmapStartNewMapOnLoopClosure());
+  o.startNewMapOnGoodSignature = P::getBool(p, P::kRtabmapStartNewMapOnGoodSignature());
   o.initWMWithAllNodes = P::getBool(p, P::kMemInitWMWithAllNodes());
   o.regStrategy = P::getInt(p, P::kRegStrategy());
   o.force3DoF = P::getBool(p, P::kRegForce3DoF());

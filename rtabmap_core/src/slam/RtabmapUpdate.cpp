@@ -118,6 +118,27 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
   return used;
 }
 
+// Rtabmap/StartNewMapOnLoopClosure: a map joins an earlier one or does not start.
+bool Rtabmap::Impl::earlierMapExists() const {
+  for (const auto& [id, pose] : graph.poses()) {
+    (void)pose;
+    if (graph.mapOf(id) != mapId) return true;
+  }
+  return false;
+}
+
+// The first node of the current map taken back (Rtabmap/StartNewMapOnLoopClosure): the map is
+// as if the frame had not come.
+void Rtabmap::Impl::discardFirstNode(int id) {
+  detector->memory().removeLastLocation();
+  graph.erase(id);
+  labelCache.erase(id);
+  lastNodeId = 0;
+  lastNodeOdom = Transform();
+  --summary.nodesAdded;
+  ++summary.skippedMapStart;
+}
+
 bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom) {
   const auto start = std::chrono::steady_clock::now();
   memory::Memory& memory = detector->memory();
@@ -149,6 +170,14 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
   }
   const int newId = added.id;
   const bool firstOfMap = lastNodeId == 0;
+  if (firstOfMap && options.startNewMapOnGoodSignature && added.badSignature && !added.merged) {
+    memory.removeLastLocation();
+    ++summary.skippedMapStart;
+    rejection = "map not started: the node has too few visual words (Rtabmap/StartNewMapOnGoodSignature)";
+    return false;
+  }
+  const bool waitingForClosure = firstOfMap && options.metric && options.startNewMapOnLoopClosure && !added.merged &&
+                                 earlierMapExists();
   if (options.metric && !added.merged) {
     graph.setPose(newId, mapId, mapCorrection * odom);
     motionCovariance.setZero();
@@ -193,6 +222,11 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     StageTimer t(stats, Statistics::kTimingReactivation);
     detector->retrieveNeighbors(u.highest.id, u, immune);
     if (options.metric) retrieveNearRobot(graph.pose(newId), u, immune);
+  }
+  if (waitingForClosure && newLinks.empty()) {
+    discardFirstNode(newId);
+    rejection = "map not started: no loop closure with an earlier map yet (Rtabmap/StartNewMapOnLoopClosure)";
+    return false;
   }
 
   // --- proximity detection by space ---

@@ -3,31 +3,16 @@
 // project in the image the node keeps (what visual registration of a loop closure relies on).
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include "PoseOnlyFrames.h"
+#include "TexturedFrames.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 
 namespace rtabmap {
 namespace {
 
-constexpr int kWidth = 640, kHeight = 480;
-
-// Blocks of random grey levels (corners everywhere) over a slanted plane 1.5-2.5 m away.
-SensorData texturedFrame(int id, double stamp) {
-  cv::Mat blocks(kHeight / 16, kWidth / 16, CV_8UC1);
-  cv::RNG rng(7);
-  rng.fill(blocks, cv::RNG::UNIFORM, 0, 256);
-  cv::Mat grey, rgb;
-  cv::resize(blocks, grey, cv::Size(kWidth, kHeight), 0, 0, cv::INTER_NEAREST);
-  cv::cvtColor(grey, rgb, cv::COLOR_GRAY2BGR);
-  cv::Mat depth(kHeight, kWidth, CV_32FC1);
-  for (int u = 0; u < kWidth; ++u) depth.col(u).setTo(1.5f + static_cast<float>(u) / kWidth);
-  const CameraModel model(525.0, 525.0, 319.5, 239.5, CameraModel::opticalRotation(), 0.0,
-                          cv::Size(kWidth, kHeight));
-  return SensorData(rgb, depth, model, id, stamp);
-}
+using test::texturedFrame;
+constexpr int kWidth = test::kTexturedWidth, kHeight = test::kTexturedHeight;
 
 struct Decimations {
   int pre, post;

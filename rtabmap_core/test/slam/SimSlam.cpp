@@ -92,6 +92,7 @@ void runSimSlam(const std::string& folder, const ParametersMap& parameters, cons
   run.summary.loopClosures += s.loopClosures;
   run.summary.proximityLinks += s.proximityLinks;
   run.summary.timeLinks += s.timeLinks;
+  run.summary.skippedMapStart += s.skippedMapStart;
   run.summary.rejectedLinks += s.rejectedLinks;
   run.summary.localizations += s.localizations;
   run.summary.mapsStarted += s.mapsStarted;

@@ -15,6 +15,11 @@ namespace rtabmap::test {
 // rtabmap-sim on first use and kept in the build tree for the other tests until the simulator's
 // sources change. "" (and *why) if the simulator failed.
 std::string simDataset(const std::string& scenario, std::string* why);
+// `var` = simDataset(scenario), or the test fails saying why.
+#define REQUIRE_SIM(var, scenario)                                 \
+  std::string why_##var;                                           \
+  const std::string var = test::simDataset(scenario, &why_##var); \
+  ASSERT_FALSE(var.empty()) << why_##var;
 
 struct SimSlamRun {
   SlamSummary summary;

@@ -26,11 +26,6 @@ std::string fileBytes(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-#define REQUIRE_SIM(var, scenario)                          \
-  std::string why_##var;                                    \
-  const std::string var = test::simDataset(scenario, &why_##var); \
-  ASSERT_FALSE(var.empty()) << why_##var;
-
 TEST(SimSlam, LoopClosesVisuallyThenLocalizesWithoutWriting) {
   REQUIRE_SIM(folder, "loop");
   test::TempDir dir("rtabmap_slam_loop");

@@ -66,6 +66,7 @@ struct SlamSummary {
   int skippedRate = 0;        // dropped by Rtabmap/DetectionRate
   int skippedStill = 0;       // robot did not move
   int skippedSpeed = 0;       // robot moved faster than RGBD/LinearSpeedUpdate or AngularSpeedUpdate
+  int skippedMapStart = 0;    // frames discarded before a map could start (Rtabmap/StartNewMapOn*)
   int refused = 0;            // bad input (see lastRejection())
   int loopClosures = 0;       // global loop closures linked
   int proximityLinks = 0;     // proximity links by space

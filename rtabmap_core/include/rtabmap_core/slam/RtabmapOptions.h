@@ -24,6 +24,8 @@ struct RtabmapOptions {
   int imagePreDecimation = 1;             // Mem/ImagePreDecimation
   int imagePostDecimation = 1;            // Mem/ImagePostDecimation
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
+  bool startNewMapOnLoopClosure = false;  // Rtabmap/StartNewMapOnLoopClosure
+  bool startNewMapOnGoodSignature = false;  // Rtabmap/StartNewMapOnGoodSignature
   bool initWMWithAllNodes = false;        // Mem/InitWMWithAllNodes
   // Links
   int regStrategy = 0;                    // Reg/Strategy: 0 visual, 1 ICP, 2 visual then ICP
