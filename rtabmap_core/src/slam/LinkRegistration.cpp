@@ -13,7 +13,8 @@
 namespace rtabmap {
 
 LinkRegistration::LinkRegistration(const ParametersMap& parameters)
-    : strategy_(Parameters::getInt(parameters, Parameters::kRegStrategy())) {
+    : strategy_(Parameters::getInt(parameters, Parameters::kRegStrategy())),
+      repeatOnce_(Parameters::getBool(parameters, Parameters::kRegRepeatOnce())) {
   switch (strategy_) {
     case 0:
       visual_ = std::make_unique<RegistrationVis>(parameters);
@@ -36,9 +37,21 @@ Transform LinkRegistration::compute(Signature& from, Signature& to, const Transf
   RegistrationInfo scratch;
   RegistrationInfo& out = info ? *info : scratch;
   out = RegistrationInfo();
-  if (visual_) return visual_->computeTransform(from, to, guess, &out);
-  if (visualIcp_) return visualIcp_->computeTransform(from, to, guess, &out);
-  return computeIcp(from, to, guess, &out);
+  if (!usesVision()) return computeIcp(from, to, guess, &out);
+  auto visual = [&](const Transform& g) {
+    return visual_ ? visual_->computeTransform(from, to, g, &out) : visualIcp_->computeTransform(from, to, g, &out);
+  };
+  const Transform first = visual(guess);
+  if (!repeatOnce_ || !guess.isNull() || first.isNull()) return first;
+  // Reg/RepeatOnce: found without a guess (a loop closure), the transform is registered again
+  // from itself: the features are then matched where it projects them (Vis/CorGuessWinSize),
+  // which finds the correspondences descriptor matching alone missed and refines the estimate.
+  // A wrong first transform (a look-alike place) rarely survives it: its projections land on
+  // the wrong features, and too few inliers are left.
+  out = RegistrationInfo();
+  const Transform second = visual(first);
+  if (second.isNull()) out.rejectedMsg = "registered again from its own first estimate (Reg/RepeatOnce): " + out.rejectedMsg;
+  return second;
 }
 
 Transform LinkRegistration::computeIcp(Signature& from, Signature& to, const Transform& guess,

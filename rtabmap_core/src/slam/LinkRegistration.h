@@ -36,8 +36,9 @@ class LinkRegistration {
   float icpReach() const;
 
   // Pose of `to`'s base in `from`'s base (to = from * T), null with info->rejectedMsg on
-  // failure. `guess` null = none (ICP alone then refuses: it only refines a guess). The nodes'
-  // sensor data may gain cached features and uncompressed scans.
+  // failure. `guess` null = none (ICP alone then refuses: it only refines a guess; a visual
+  // result is registered once more from itself, Reg/RepeatOnce). The nodes' sensor data may
+  // gain cached features and uncompressed scans.
   Transform compute(Signature& from, Signature& to, const Transform& guess, RegistrationInfo* info) const;
   // ICP of the two nodes' laser scans from `guess` alone, whatever the strategy (1 or 2).
   Transform computeIcp(Signature& from, Signature& to, const Transform& guess, RegistrationInfo* info) const;
@@ -46,6 +47,7 @@ class LinkRegistration {
 
  private:
   int strategy_;
+  bool repeatOnce_;  // Reg/RepeatOnce
   std::unique_ptr<RegistrationVis> visual_;
   std::unique_ptr<IcpRegistration> icp_;
   std::unique_ptr<IcpVisualRegistration> visualIcp_;
