@@ -6,6 +6,7 @@
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/geometry/DepthFormat.h"
 #include "rtabmap_core/geometry/ImageDecimation.h"
 #include "rtabmap_core/maps/LocalGridMaker.h"
 
@@ -76,6 +77,9 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
     // too, as proximity detection matches it again and again.
     StageTimer t(stats, Statistics::kTimingMemCompressing_data);
     data = decimateImages(data, options.imagePostDecimation);  // after the local grid: it uses all pixels
+    if (options.saveDepth16 && !data.isStereo() && data.depthOrRightRaw().type() == CV_32FC1) {
+      data.setRGBDImage(data.imageRaw(), depthToMillimetres(data.depthOrRightRaw()), data.cameraModels());
+    }
     data.compress(options.imageFormat);
     if (!options.imageKept) {
       const LaserScan scan = data.laserScanRaw();

@@ -23,6 +23,7 @@ struct RtabmapOptions {
   std::string imageFormat = ".jpg";       // Mem/ImageCompressionFormat
   int imagePreDecimation = 1;             // Mem/ImagePreDecimation
   int imagePostDecimation = 1;            // Mem/ImagePostDecimation
+  bool saveDepth16 = false;               // Mem/SaveDepth16Format
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
   bool startNewMapOnLoopClosure = false;  // Rtabmap/StartNewMapOnLoopClosure
   bool startNewMapOnGoodSignature = false;  // Rtabmap/StartNewMapOnGoodSignature

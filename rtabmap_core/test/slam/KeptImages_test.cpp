@@ -1,6 +1,7 @@
-// Mem/ImagePreDecimation and Mem/ImagePostDecimation: words found in a shrunk image, a node that
-// keeps shrunk images, and in every combination keypoints that lie where their 3D points
-// project in the image the node keeps (what visual registration of a loop closure relies on).
+// What a node keeps of its images. Mem/ImagePreDecimation and Mem/ImagePostDecimation: words
+// found in a shrunk image, a node that keeps shrunk images, and in every combination keypoints
+// that lie where their 3D points project in the image the node keeps (what visual registration
+// of a loop closure relies on). Mem/SaveDepth16Format: float depth kept as millimetres.
 #include <gtest/gtest.h>
 
 #include "PoseOnlyFrames.h"
@@ -89,6 +90,26 @@ TEST(NodeImageDecimation, DecimationBelowOneIsRefused) {
   ParametersMap p = test::everyFrame();
   p["Mem/ImagePostDecimation"] = "0";
   EXPECT_THROW(slam.init(p, ""), ParameterError);
+}
+
+TEST(NodeImages, FloatDepthIsKeptAsMillimetresWithSaveDepth16Format) {
+  for (const bool mm : {false, true}) {
+    SCOPED_TRACE(mm ? "Mem/SaveDepth16Format" : "default");
+    Rtabmap slam;
+    ParametersMap p = test::everyFrame();
+    p["Mem/SaveDepth16Format"] = mm ? "true" : "false";
+    slam.init(p, "");
+    ASSERT_TRUE(slam.process(texturedFrame(1, 1.0), Transform::Identity(), test::smallCov()));
+    SensorData data = slam.node(slam.lastNodeId())->sensorData();
+    data.uncompress(true, true, false, false);
+    const cv::Mat& depth = data.depthOrRightRaw();
+    ASSERT_EQ(depth.type(), mm ? CV_16UC1 : CV_32FC1);
+    // The slanted plane: 1.5 m at the left edge, 2.5 at the right.
+    const double left = mm ? depth.at<uint16_t>(240, 0) * 0.001 : depth.at<float>(240, 0);
+    const double right = mm ? depth.at<uint16_t>(240, kWidth - 1) * 0.001 : depth.at<float>(240, kWidth - 1);
+    EXPECT_NEAR(left, 1.5, 0.001);
+    EXPECT_NEAR(right, 1.5 + (kWidth - 1.0) / kWidth, 0.001);
+  }
 }
 
 }  // namespace
