@@ -322,6 +322,21 @@ cv::Mat CameraModel::rectifyDepth(const cv::Mat& raw) const {
   return rectifyImage(raw, cv::INTER_NEAREST);
 }
 
+bool CameraModel::isRectified() const { return isPassThrough(K_, D_, R_, P_); }
+
+CameraModel CameraModel::rectified() const {
+  if (isPassThrough(K_, D_, R_, P_) || !isValidForProjection()) return *this;
+  CameraModel out = *this;
+  out.mapX_ = cv::Mat();
+  out.mapY_ = cv::Mat();
+  out.mapMutex_ = std::make_shared<std::mutex>();
+  out.K_ = K();
+  out.D_ = D();
+  out.R_ = cv::Mat::eye(3, 3, CV_64FC1);
+  out.distortionModel_ = "plumb_bob";
+  return out;
+}
+
 CameraModel CameraModel::scaled(double scale) const {
   if (!(scale > 0.0) || !std::isfinite(scale)) {
     throw std::invalid_argument("CameraModel::scaled: scale must be > 0, got " + std::to_string(scale));

@@ -126,6 +126,10 @@ void StereoCameraModel::rectify(const cv::Mat& rawLeft, const cv::Mat& rawRight,
   right = right_.rectifyImage(rawRight);
 }
 
+StereoCameraModel StereoCameraModel::rectified() const {
+  return StereoCameraModel(name_, left_.rectified(), right_.rectified());
+}
+
 StereoCameraModel StereoCameraModel::scaled(double scale) const {
   return StereoCameraModel(name_, left_.scaled(scale), right_.scaled(scale));
 }

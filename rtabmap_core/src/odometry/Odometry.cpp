@@ -11,6 +11,7 @@
 
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/geometry/ImageRectification.h"
 
 namespace rtabmap {
 namespace {
@@ -47,6 +48,7 @@ Odometry::Odometry(const ParametersMap& parameters) : parameters_(parameters) {
   guessSmoothingDelay_ = Parameters::getDouble(parameters_, Parameters::kOdomGuessSmoothingDelay());
   force3DoF_ = Parameters::getBool(parameters_, Parameters::kRegForce3DoF());
   holonomic_ = Parameters::getBool(parameters_, Parameters::kOdomHolonomic());
+  imagesAlreadyRectified_ = Parameters::getBool(parameters_, Parameters::kRtabmapImagesAlreadyRectified());
 }
 
 Transform Odometry::process(SensorData& data, OdometryInfo* info) { return process(data, Transform(), info); }
@@ -116,6 +118,16 @@ Transform Odometry::process(SensorData& data, const Transform& externalGuess, Od
     ++framesProcessed_;
     return result;
   };
+  // Rtabmap/ImagesAlreadyRectified false: the frame goes on (to SLAM too) rectified, with
+  // rectified models, so nothing downstream rectifies it again.
+  if (!imagesAlreadyRectified_ && needsRectification(data)) {
+    try {
+      data = rectifyImages(data);
+    } catch (const std::exception& e) {
+      info.lostReason = std::string("the images cannot be rectified (Rtabmap/ImagesAlreadyRectified false): ") + e.what();
+      return finish(reportLost(data, info));
+    }
+  }
 
   const bool initialising = needsInitialisation();
   Transform guess;

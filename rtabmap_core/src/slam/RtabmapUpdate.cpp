@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "ProximityBySpace.h"
 #include "RtabmapImpl.h"
+#include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/geometry/ImageRectification.h"
 #include "rtabmap_core/memory/ProcessMemory.h"
 
 namespace rtabmap {
@@ -109,7 +112,18 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
     lastUpdateStamp = data.stamp();
   }
   stats = Statistics();
-  const bool used = options.incremental ? mappingUpdate(data, odom) : localizationUpdate(data, odom, covariance);
+  // Rtabmap/ImagesAlreadyRectified false: only the frames that make an update are rectified.
+  std::optional<SensorData> rectified;
+  if (!options.imagesAlreadyRectified && needsRectification(data)) {
+    StageTimer t(stats, "Timing/Image_rectification/ms");
+    try {
+      rectified = rectifyImages(data);
+    } catch (const Error& e) {
+      return refuse(std::string("the images cannot be rectified (Rtabmap/ImagesAlreadyRectified false): ") + e.what());
+    }
+  }
+  const SensorData& input = rectified ? *rectified : data;
+  const bool used = options.incremental ? mappingUpdate(input, odom) : localizationUpdate(input, odom, covariance);
   if (used) {
     // After the statistics: Timing/Total/ms is the update's own time, as the time budget saw it.
     StageTimer t(stats, Statistics::kTimingMemory_release);

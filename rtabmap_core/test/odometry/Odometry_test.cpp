@@ -4,6 +4,7 @@
 
 #include <deque>
 
+#include "common/DistortedFrames.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/odometry/Odometry.h"
 
@@ -18,11 +19,13 @@ class ScriptedOdometry : public Odometry {
 
   std::deque<Transform> answers;  // null = registration fails
   std::vector<Transform> guesses;
+  std::vector<bool> rectifiedInput;  // per registration: did its frame come with rectified models
   int resets = 0;
 
  protected:
-  Transform computeTransform(SensorData&, const Transform& guess, OdometryInfo* info) override {
+  Transform computeTransform(SensorData& data, const Transform& guess, OdometryInfo* info) override {
     guesses.push_back(guess);
+    rectifiedInput.push_back(!data.cameraModels().empty() && data.cameraModels().front().isRectified());
     if (!initialised_) {
       initialised_ = true;
       return Transform::Identity();
@@ -151,6 +154,33 @@ TEST(Odometry, Force3DoFAndNonHolonomic) {
   car.process(c);
   const Transform q = car.process(d);
   EXPECT_NEAR(q.y(), 0.2 * std::tan(0.1), 1e-9);
+}
+
+// Rtabmap/ImagesAlreadyRectified false: the registration gets the rectified frame, and so does
+// the caller (SLAM then has nothing left to rectify); an image that does not fit its
+// calibration is a lost frame with the reason.
+TEST(Odometry, RawImagesAreRectifiedBeforeRegistrationWhenNotAlreadyRectified) {
+  const CameraModel camera = test::distortedCamera();
+  for (const bool already : {true, false}) {
+    SCOPED_TRACE(already ? "default" : "Rtabmap/ImagesAlreadyRectified false");
+    ScriptedOdometry odom(ParametersMap{{"Rtabmap/ImagesAlreadyRectified", already ? "true" : "false"}});
+    SensorData frame(test::distort(test::blockTexture(), camera), test::rampDepth(), camera, 1, 1.0);
+    ASSERT_FALSE(odom.process(frame).isNull());
+    ASSERT_EQ(odom.rectifiedInput.size(), 1u);
+    EXPECT_EQ(odom.rectifiedInput.back(), !already);
+    EXPECT_EQ(frame.cameraModels().front().isRectified(), !already);
+    if (!already) {
+      EXPECT_EQ(cv::norm(frame.imageRaw(), camera.rectifyImage(test::distort(test::blockTexture(), camera)),
+                         cv::NORM_INF),
+                0.0);
+      cv::Mat small;
+      cv::resize(test::blockTexture(), small, cv::Size(160, 120));
+      SensorData wrong(small, cv::Mat(), camera, 2, 2.0);
+      OdometryInfo info;
+      EXPECT_TRUE(odom.process(wrong, &info).isNull());
+      EXPECT_NE(info.lostReason.find("cannot be rectified"), std::string::npos) << info.lostReason;
+    }
+  }
 }
 
 TEST(Odometry, FactoryAndNames) {

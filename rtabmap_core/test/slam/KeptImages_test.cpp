@@ -6,6 +6,7 @@
 
 #include "PoseOnlyFrames.h"
 #include "TexturedFrames.h"
+#include "common/DistortedFrames.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 
@@ -109,6 +110,28 @@ TEST(NodeImages, FloatDepthIsKeptAsMillimetresWithSaveDepth16Format) {
     const double right = mm ? depth.at<uint16_t>(240, kWidth - 1) * 0.001 : depth.at<float>(240, kWidth - 1);
     EXPECT_NEAR(left, 1.5, 0.001);
     EXPECT_NEAR(right, 1.5 + (kWidth - 1.0) / kWidth, 0.001);
+  }
+}
+
+// Rtabmap/ImagesAlreadyRectified false: the node keeps the rectified images, with rectified
+// models; by default the images are taken as they come.
+TEST(NodeImages, RawImagesAreRectifiedWhenNotAlreadyRectified) {
+  const CameraModel camera = test::distortedCamera();
+  const cv::Mat raw = test::distort(test::blockTexture(), camera);
+  for (const bool already : {true, false}) {
+    SCOPED_TRACE(already ? "default" : "Rtabmap/ImagesAlreadyRectified false");
+    Rtabmap slam;
+    ParametersMap p = test::everyFrame();
+    p["Rtabmap/ImagesAlreadyRectified"] = already ? "true" : "false";
+    p["Mem/ImageCompressionFormat"] = ".png";  // lossless: the kept image compares to the bit
+    slam.init(p, "");
+    ASSERT_TRUE(slam.process(SensorData(raw, test::rampDepth(), camera, 1, 1.0), Transform::Identity(), test::smallCov()));
+    SensorData kept = slam.node(slam.lastNodeId())->sensorData();
+    kept.uncompress(true, true, false, false);
+    ASSERT_EQ(kept.cameraModels().size(), 1u);
+    EXPECT_EQ(kept.cameraModels().front().isRectified(), !already);
+    const cv::Mat expected = already ? raw : camera.rectifyImage(raw);
+    EXPECT_EQ(cv::norm(kept.imageRaw(), expected, cv::NORM_INF), 0.0);
   }
 }
 

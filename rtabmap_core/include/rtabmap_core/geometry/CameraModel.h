@@ -96,6 +96,11 @@ class CameraModel {
   // image size differs from imageSize().
   cv::Mat rectifyImage(const cv::Mat& raw, int interpolation = 1 /*cv::INTER_LINEAR*/) const;
   cv::Mat rectifyDepth(const cv::Mat& raw) const;
+  // The model of the images rectifyImage() makes: the same projection (P), K from P, no
+  // distortion, R identity; rectifying with it changes nothing.
+  CameraModel rectified() const;
+  // Its images need no rectification (no distortion, R identity, P's intrinsics those of K).
+  bool isRectified() const;
 
   // The model of an image resized by `scale` (decimation = 1/scale), and of a region of
   // interest. Scaling follows the ROS binning convention: fx, fy, cx, cy, Tx of K and P are

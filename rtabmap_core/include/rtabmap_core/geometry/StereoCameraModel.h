@@ -52,6 +52,8 @@ class StereoCameraModel {
   void initRectificationMap();
   // Rectifies both raw images.
   void rectify(const cv::Mat& rawLeft, const cv::Mat& rawRight, cv::Mat& left, cv::Mat& right) const;
+  // The pair of the images rectify() makes (CameraModel::rectified() of each).
+  StereoCameraModel rectified() const;
 
   StereoCameraModel scaled(double scale) const;
 

@@ -113,6 +113,7 @@ class Odometry {
   bool guessMotion_ = true; // Odom/GuessMotion
   bool force3DoF_ = false;  // Reg/Force3DoF
   bool holonomic_ = true;   // Odom/Holonomic
+  bool imagesAlreadyRectified_ = true;  // Rtabmap/ImagesAlreadyRectified
 };
 
 }  // namespace rtabmap

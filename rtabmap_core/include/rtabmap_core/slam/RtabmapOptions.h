@@ -24,6 +24,7 @@ struct RtabmapOptions {
   int imagePreDecimation = 1;             // Mem/ImagePreDecimation
   int imagePostDecimation = 1;            // Mem/ImagePostDecimation
   bool saveDepth16 = false;               // Mem/SaveDepth16Format
+  bool imagesAlreadyRectified = true;     // Rtabmap/ImagesAlreadyRectified
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
   bool startNewMapOnLoopClosure = false;  // Rtabmap/StartNewMapOnLoopClosure
   bool startNewMapOnGoodSignature = false;  // Rtabmap/StartNewMapOnGoodSignature
