@@ -1,18 +1,22 @@
 // Stages on clouds that need PCL: voxel filter, normals-based ground segmentation, obstacle
-// clustering, radius noise filter (see LocalGridStages.h). PCL headers are slow to compile:
-// they live in this file only.
+// clustering, radius noise filter (see LocalGridStages.h), and the ground plane (GroundPlane.h).
+// PCL headers are slow to compile: they live in this file only.
 #include <pcl/features/normal_3d.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <pcl/sample_consensus/method_types.h>
+#include <pcl/sample_consensus/model_types.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/sac_segmentation.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "rtabmap_core/maps/GroundPlane.h"
 #include "rtabmap_core/maps/LocalGridStages.h"
 
 namespace rtabmap {
@@ -233,6 +237,42 @@ Cloud filterNoise(const Cloud& cloud, float radius, int minNeighbors, int* remov
   }
   if (removedOut) *removedOut = static_cast<int>(cloud.size() - kept.size());
   return subset(cloud, kept);
+}
+
+std::optional<GroundPlane> findGroundPlane(const Cloud& cloud, const GroundPlaneOptions& options) {
+  const int needed = std::max(options.minInliers, static_cast<int>(options.minInlierRatio * cloud.size()));
+  if (static_cast<int>(cloud.size()) < needed || cloud.size() < 3) return std::nullopt;
+  // A plane perpendicular to the base's z axis, within maxTilt: walls never qualify.
+  pcl::SACSegmentation<pcl::PointXYZ> ransac;  // not random: a fixed seed
+  ransac.setModelType(pcl::SACMODEL_PERPENDICULAR_PLANE);
+  ransac.setMethodType(pcl::SAC_RANSAC);
+  ransac.setAxis(Eigen::Vector3f::UnitZ());
+  ransac.setEpsAngle(options.maxTilt);
+  ransac.setDistanceThreshold(options.distance);
+  ransac.setMaxIterations(500);
+  ransac.setInputCloud(toPcl(cloud));
+  pcl::PointIndices inliers;
+  pcl::ModelCoefficients plane;
+  ransac.segment(inliers, plane);
+  if (static_cast<int>(inliers.indices.size()) < needed || plane.values.size() != 4) return std::nullopt;
+  Eigen::Vector3d n(plane.values[0], plane.values[1], plane.values[2]);
+  double d = plane.values[3];
+  const double norm = n.norm();
+  if (!(norm > 0.0)) return std::nullopt;
+  n /= norm;
+  d /= norm;
+  // n . p + d = 0 on the plane; the origin's side is where n . p + d has the sign of d.
+  if (d < 0.0) {
+    n = -n;
+    d = -d;
+  }
+  // Below the origin: the normal pointing to the origin must point up.
+  if (n.z() <= 0.0) return std::nullopt;
+  GroundPlane out;
+  out.normal = n;
+  out.height = d;
+  out.inliers = static_cast<int>(inliers.indices.size());
+  return out;
 }
 
 }  // namespace rtabmap

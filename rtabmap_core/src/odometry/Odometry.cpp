@@ -9,6 +9,7 @@
 #include <cmath>
 #include <exception>
 
+#include "GroundAlignment.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/geometry/ImageRectification.h"
@@ -49,6 +50,7 @@ Odometry::Odometry(const ParametersMap& parameters) : parameters_(parameters) {
   force3DoF_ = Parameters::getBool(parameters_, Parameters::kRegForce3DoF());
   holonomic_ = Parameters::getBool(parameters_, Parameters::kOdomHolonomic());
   imagesAlreadyRectified_ = Parameters::getBool(parameters_, Parameters::kRtabmapImagesAlreadyRectified());
+  alignWithGround_ = Parameters::getBool(parameters_, Parameters::kOdomAlignWithGround());
 }
 
 Transform Odometry::process(SensorData& data, OdometryInfo* info) { return process(data, Transform(), info); }
@@ -126,6 +128,19 @@ Transform Odometry::process(SensorData& data, const Transform& externalGuess, Od
     } catch (const std::exception& e) {
       info.lostReason = std::string("the images cannot be rectified (Rtabmap/ImagesAlreadyRectified false): ") + e.what();
       return finish(reportLost(data, info));
+    }
+  }
+
+  // Odom/AlignWithGround: the first frame from the origin (not from a pose a reset asked for)
+  // starts level with the floor it sees.
+  if (alignWithGround_ && framesProcessed_ == 0 && pose_.isIdentity()) {
+    std::string why;
+    const Transform level = odometry_detail::groundAlignedPose(data, &why);
+    if (level.isNull()) {
+      RTABMAP_WARN("Odom/AlignWithGround: " << why << "; odometry starts at the origin, not levelled");
+    } else {
+      RTABMAP_INFO("Odom/AlignWithGround: odometry starts at " << level.prettyPrint() << " (level with the floor)");
+      reset(level);
     }
   }
 

@@ -183,6 +183,49 @@ TEST(Odometry, RawImagesAreRectifiedBeforeRegistrationWhenNotAlreadyRectified) {
   }
 }
 
+// A 160x120 RGB-D frame of a flat floor seen from a base 1.2 m above it, pitched down by
+// `pitch` (rad): depth by intersecting each pixel's ray with the floor.
+SensorData floorFrame(double pitch) {
+  const CameraModel camera(120.0, 120.0, 79.5, 59.5, CameraModel::opticalRotation(), 0.0, cv::Size(160, 120));
+  const Transform base(0.0, 0.0, 1.2, 0.0, pitch, 0.0);
+  const Transform sensor = base * camera.localTransform();
+  cv::Mat depth(120, 160, CV_32FC1, cv::Scalar(0.0f));
+  for (int v = 0; v < depth.rows; ++v) {
+    for (int u = 0; u < depth.cols; ++u) {
+      const Eigen::Vector3d ray((u - camera.cx()) / camera.fx(), (v - camera.cy()) / camera.fy(), 1.0);
+      const Eigen::Vector3d w = sensor.rotationMatrix() * ray;  // z of the ray in the optical frame is 1
+      if (w.z() < -1e-3) depth.at<float>(v, u) = static_cast<float>(1.2 / -w.z());
+    }
+  }
+  return SensorData(cv::Mat(120, 160, CV_8UC3, cv::Scalar(128, 128, 128)), depth, camera, 1, 1.0);
+}
+
+// Odom/AlignWithGround: the first pose is level with the floor, at the base's height above it.
+TEST(Odometry, AlignWithGroundStartsLevelWithTheFloor) {
+  for (const bool align : {false, true}) {
+    SCOPED_TRACE(align ? "Odom/AlignWithGround" : "default");
+    ScriptedOdometry odom(ParametersMap{{"Odom/AlignWithGround", align ? "true" : "false"}});
+    SensorData frame = floorFrame(0.45);
+    ASSERT_FALSE(odom.process(frame).isNull());
+    if (!align) {
+      EXPECT_TRUE(odom.getPose().isIdentity());
+      continue;
+    }
+    double x, y, z, roll, pitch, yaw;
+    odom.getPose().getTranslationAndEulerAngles(x, y, z, roll, pitch, yaw);
+    EXPECT_NEAR(z, 1.2, 0.02);
+    EXPECT_NEAR(pitch, 0.45, 0.01);
+    EXPECT_NEAR(roll, 0.0, 0.01);
+    EXPECT_NEAR(yaw, 0.0, 0.01);
+    EXPECT_NEAR(std::hypot(x, y), 0.0, 1e-9);
+  }
+  // No floor in view (a frame without depth): the origin, and odometry goes on.
+  ScriptedOdometry blind(ParametersMap{{"Odom/AlignWithGround", "true"}});
+  SensorData frame = frameAt(1.0);
+  EXPECT_FALSE(blind.process(frame).isNull());
+  EXPECT_TRUE(blind.getPose().isIdentity());
+}
+
 TEST(Odometry, FactoryAndNames) {
   EXPECT_EQ(Odometry::create()->type(), Odometry::Type::kF2M);
   EXPECT_EQ(Odometry::create({{"Odom/Strategy", "1"}})->type(), Odometry::Type::kF2F);

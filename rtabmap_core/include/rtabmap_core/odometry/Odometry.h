@@ -114,6 +114,7 @@ class Odometry {
   bool force3DoF_ = false;  // Reg/Force3DoF
   bool holonomic_ = true;   // Odom/Holonomic
   bool imagesAlreadyRectified_ = true;  // Rtabmap/ImagesAlreadyRectified
+  bool alignWithGround_ = false;        // Odom/AlignWithGround
 };
 
 }  // namespace rtabmap
