@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "LinkRegistration.h"
 #include "ScanMerge.h"
@@ -41,6 +42,13 @@ std::set<int> candidatesOf(const memory::Memory& memory, int currentId, const st
 }
 
 // The nodes of `path` nearest to `center` along it: center and up to n on each side.
+// RGBD/ScanMatchingIdsSavedInLinks: "SCANS:id;id;..." as bytes.
+cv::Mat scanIdsUserData(const std::vector<int>& ids) {
+  std::string text = "SCANS:";
+  for (size_t i = 0; i < ids.size(); ++i) text += (i ? ";" : "") + std::to_string(ids[i]);
+  return cv::Mat(1, static_cast<int>(text.size()), CV_8UC1, text.data()).clone();
+}
+
 std::vector<int> pathWindow(const std::vector<int>& path, int center, int n) {
   const auto it = std::find(path.begin(), path.end(), center);
   const long i = it - path.begin();
@@ -174,6 +182,7 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     const LaserScan& scan = scanOf(*current, &problem);
     if (scan.empty()) continue;
     std::vector<std::pair<LaserScan, Transform>> parts;  // scan, pose in the nearest node's frame
+    std::vector<int> partIds;
     const Signature* nearestSig = memory.signature(nearest);
     for (int id : pathWindow(path, nearest, o.proximityPathMaxNeighbors)) {
       Signature* s = memory.mutableSignature(id);
@@ -184,6 +193,7 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
       const Transform inNearest = raw ? nearestSig->getPose().inverse() * s->getPose()
                                       : poses.at(nearest).inverse() * poses.at(id);
       parts.emplace_back(part, inNearest);
+      partIds.push_back(id);
     }
     if (parts.empty()) continue;
     ++result.scanChecked;
@@ -214,7 +224,8 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
       continue;
     }
     const Link fromNearest(nearest, currentId, Link::kLocalSpaceClosure, t,
-                           informationOf(info.covariance * o.proximityMergedScanCovFactor, covOffDiagIgnored));
+                           informationOf(info.covariance * o.proximityMergedScanCovFactor, covOffDiagIgnored),
+                           o.scanMatchingIdsSavedInLinks ? scanIdsUserData(partIds) : cv::Mat());
     result.links.push_back(fromNearest.inverse());
     ++result.addedByScans;
   }

@@ -45,6 +45,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.proximityAngle = P::getFloat(p, P::kRGBDProximityAngle());
   o.proximityOdomGuess = P::getBool(p, P::kRGBDProximityOdomGuess());
   o.proximityMergedScanCovFactor = P::getDouble(p, P::kRGBDProximityMergedScanCovFactor());
+  o.scanMatchingIdsSavedInLinks = P::getBool(p, P::kRGBDScanMatchingIdsSavedInLinks());
   o.proximityCorrelativeWindow = P::getFloat(p, P::kRGBDProximityCorrelativeWindow());
   o.proximityCorrelativeAngle = P::getFloat(p, P::kRGBDProximityCorrelativeAngle());
   o.proximityCorrelativeMinScore = P::getFloat(p, P::kRGBDProximityCorrelativeMinScore());

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <set>
+#include <sstream>
 
 #include <opencv2/core.hpp>
 
@@ -130,6 +132,21 @@ TEST(SimSlam, ReverseLapClosesWithLaserProximity) {
   const double odomAte = test::nodeAte(run.odometry, run.groundTruth);
   const double slamAte = test::nodeAte(run.optimized, run.groundTruth);
   EXPECT_LT(slamAte, 0.5 * odomAte) << "odometry ATE " << odomAte << " m, SLAM " << slamAte << " m";
+  // RGBD/ScanMatchingIdsSavedInLinks: a link from merged scans names the nodes whose scans it
+  // matched, the path around the node it links to.
+  int named = 0;
+  for (const auto& [from, link] : run.links) {
+    if (link.type() != Link::kLocalSpaceClosure || link.userData().empty()) continue;
+    const std::string text(link.userData().ptr<char>(), link.userData().total());
+    ASSERT_EQ(text.rfind("SCANS:", 0), 0u) << text;
+    std::set<int> ids;
+    std::stringstream list(text.substr(6));
+    for (std::string id; std::getline(list, id, ';');) ids.insert(std::stoi(id));
+    EXPECT_TRUE(ids.count(link.from()) || ids.count(link.to())) << link.from() << "->" << link.to() << ": " << text;
+    EXPECT_TRUE(run.odometry.count(*ids.begin()) && run.odometry.count(*ids.rbegin())) << text;
+    ++named;
+  }
+  EXPECT_GE(named, 3);
 }
 
 // Each session starts somewhere else with odometry reset: a new map, merged into the first

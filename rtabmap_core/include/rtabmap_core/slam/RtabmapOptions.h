@@ -48,6 +48,7 @@ struct RtabmapOptions {
   float proximityAngle = 45.0f;           // RGBD/ProximityAngle (deg)
   bool proximityOdomGuess = false;        // RGBD/ProximityOdomGuess
   double proximityMergedScanCovFactor = 100.0;  // RGBD/ProximityMergedScanCovFactor
+  bool scanMatchingIdsSavedInLinks = true;       // RGBD/ScanMatchingIdsSavedInLinks
   float proximityCorrelativeWindow = 0.0f;      // RGBD/ProximityCorrelativeWindow (m, 0 = off)
   float proximityCorrelativeAngle = 20.0f;      // RGBD/ProximityCorrelativeAngle (deg)
   float proximityCorrelativeMinScore = 0.6f;    // RGBD/ProximityCorrelativeMinScore
