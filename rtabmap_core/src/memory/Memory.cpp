@@ -179,7 +179,7 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
     ++wordsLocations_;
   }
 
-  Signature fresh(id, in.mapId, 0, in.stamp, std::string(), in.pose, Transform(), in.data);
+  Signature fresh(id, in.mapId, 0, in.stamp, std::string(), in.pose, in.data.groundTruth(), in.data);
   if (!words.empty()) {
     std::vector<cv::KeyPoint> kpts;
     std::vector<cv::Point3f> pts;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "GroundTruthError.h"
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/optimizer/Graph.h"
@@ -182,6 +183,32 @@ std::set<int> Rtabmap::Impl::localImmunity(const Transform& pose) const {
     immune.insert(id);
   }
   return immune;
+}
+
+void Rtabmap::Impl::addGroundTruthStatistics(int nodeId) {
+  if (!options.computeRmse || !options.metric) return;
+  const memory::Memory& memory = detector->memory();
+  const Signature* newest = memory.signature(nodeId);
+  if (!newest || newest->getGroundTruthPose().isNull()) return;
+  const std::map<int, Transform> poses = ramPosesOfGroup();
+  std::map<int, Transform> truth;
+  for (const auto& [id, pose] : poses) {
+    (void)pose;
+    const Signature* s = memory.signature(id);
+    if (s && !s->getGroundTruthPose().isNull()) truth.emplace(id, s->getGroundTruthPose());
+  }
+  const std::optional<GroundTruthErrors> e = groundTruthErrors(poses, truth);
+  if (!e) return;
+  const std::pair<const char*, const ErrorStats*> groups[] = {{"Translational", &e->translational},
+                                                              {"Rotational", &e->rotational}};
+  for (const auto& [name, s] : groups) {
+    const std::string unit = std::string(name) == "Translational" ? "/m" : "/deg";
+    const std::pair<const char*, double> values[] = {{"rmse", s->rmse}, {"mean", s->mean}, {"median", s->median},
+                                                     {"std", s->std},   {"min", s->min},   {"max", s->max}};
+    for (const auto& [what, value] : values) {
+      stats.addStatistic("Gt/" + std::string(name) + "_" + what + unit, static_cast<float>(value));
+    }
+  }
 }
 
 }  // namespace rtabmap

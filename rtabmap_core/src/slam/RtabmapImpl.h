@@ -127,6 +127,8 @@ struct Rtabmap::Impl {
   void discardFirstNode(int id);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
+  // RtabmapGraph.cpp: Rtabmap/ComputeRMSE (GroundTruthError.h), when the node has ground truth.
+  void addGroundTruthStatistics(int nodeId);
   // The robot stands still, no update comes: graph changes the global grid deferred
   // (GridGlobal/ReassemblyInterval) are assembled now (an update without a new node does not
   // defer) rather than at the next node.

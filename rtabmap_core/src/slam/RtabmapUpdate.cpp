@@ -337,6 +337,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
   summary.retrieved += static_cast<int>(u.retrieved.size());
   const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   finishStatistics(u, newId, total);
+  addGroundTruthStatistics(newId);  // an evaluation, outside the update's time
   return true;
 }
 

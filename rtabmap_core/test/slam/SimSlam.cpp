@@ -83,6 +83,9 @@ void runSimSlam(const std::string& folder, const ParametersMap& parameters, cons
     if (id <= 0) continue;
     run.odometry[id] = data.odomPose();
     if (!data.groundTruth().isNull()) run.groundTruth[id] = data.groundTruth();
+    const auto& values = slam.statistics().data();
+    const auto gt = values.find("Gt/Translational_rmse/m");
+    run.lastGroundTruthRmse = gt == values.end() ? -1.0 : gt->second;
   }
   run.optimized = slam.optimizedPoses();
   run.links = slam.allLinks();

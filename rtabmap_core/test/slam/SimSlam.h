@@ -29,6 +29,7 @@ struct SimSlamRun {
   std::multimap<int, Link> links;        // every link of the map at the end
   int lastMapId = 0;
   int refused = 0;
+  double lastGroundTruthRmse = -1.0;  // the last update's Gt/Translational_rmse/m (-1: none)
 };
 
 // Runs Rtabmap over a sim dataset folder with its wheel odometry; appends to `run` (several

@@ -25,6 +25,7 @@ struct RtabmapOptions {
   int imagePostDecimation = 1;            // Mem/ImagePostDecimation
   bool saveDepth16 = false;               // Mem/SaveDepth16Format
   bool imagesAlreadyRectified = true;     // Rtabmap/ImagesAlreadyRectified
+  bool computeRmse = true;                // Rtabmap/ComputeRMSE
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
   bool startNewMapOnLoopClosure = false;  // Rtabmap/StartNewMapOnLoopClosure
   bool startNewMapOnGoodSignature = false;  // Rtabmap/StartNewMapOnGoodSignature
