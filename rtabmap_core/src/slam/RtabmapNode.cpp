@@ -171,7 +171,19 @@ std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId
   // says loop closures are seen from the same spot).
   const Transform guess = options.loopClosureIdentityGuess ? Transform::Identity() : Transform();
   RegistrationInfo info;
-  const Transform t = registration->compute(*current, *hypothesis, guess, &info);
+  Transform t;
+  if (options.loopClosureReextractFeatures && registration->usesVision()) {
+    // Copies without words or cached features: the registration extracts its own from the
+    // images, and the nodes keep what they had.
+    Signature a = *current, b = *hypothesis;
+    for (Signature* s : {&a, &b}) {
+      s->setWords({}, {}, {}, cv::Mat());
+      s->sensorData().setFeatures({}, {}, cv::Mat());
+    }
+    t = registration->compute(a, b, guess, &info);
+  } else {
+    t = registration->compute(*current, *hypothesis, guess, &info);
+  }
   stats.addStatistic(Statistics::kLoopVisual_matches, static_cast<float>(info.matches));
   stats.addStatistic(Statistics::kLoopVisual_inliers, static_cast<float>(info.inliers));
   if (t.isNull()) {

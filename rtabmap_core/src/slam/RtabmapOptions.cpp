@@ -25,6 +25,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.saveDepth16 = P::getBool(p, P::kMemSaveDepth16Format());
   o.imagesAlreadyRectified = P::getBool(p, P::kRtabmapImagesAlreadyRectified());
   o.computeRmse = P::getBool(p, P::kRtabmapComputeRMSE());
+  o.loopClosureReextractFeatures = P::getBool(p, P::kRGBDLoopClosureReextractFeatures());
   o.mapLabelsAdded = P::getBool(p, P::kMemMapLabelsAdded());
   o.startNewMapOnLoopClosure = P::getBool(p, P::kRtabmapStartNewMapOnLoopClosure());
   o.startNewMapOnGoodSignature = P::getBool(p, P::kRtabmapStartNewMapOnGoodSignature());

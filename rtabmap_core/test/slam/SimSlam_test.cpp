@@ -90,6 +90,28 @@ TEST(SimSlam, ProximityByTimeLinksRecentNodesCorrectly) {
   EXPECT_LT(test::nodeAte(run.optimized, run.groundTruth), 0.5 * test::nodeAte(run.odometry, run.groundTruth));
 }
 
+// RGBD/LoopClosureReextractFeatures: with 60 visual words a node, appearance still finds the
+// revisits, but no registration of the words can reach Vis/MinInliers 70; features extracted
+// again from the images (Vis/MaxFeatures) can.
+TEST(SimSlam, LoopClosuresFromFeaturesExtractedAgainWhenWordsAreFew) {
+  REQUIRE_SIM(folder, "loop");
+  ParametersMap p = test::simSlamParameters();
+  p["Kp/MaxFeatures"] = "60";
+  p["Vis/MinInliers"] = "70";
+  p["Reg/Strategy"] = "0";  // visual only: ICP would not need the features
+  p["RGBD/ProximityBySpace"] = "false";
+  SimSlamRun words, again;
+  test::runSimSlam(folder, p, "", words);
+  p["RGBD/LoopClosureReextractFeatures"] = "true";
+  test::runSimSlam(folder, p, "", again);
+  RecordProperty("closures_from_words", words.summary.loopClosures);
+  RecordProperty("closures_from_features", again.summary.loopClosures);
+  EXPECT_EQ(words.summary.loopClosures, 0);
+  EXPECT_GT(words.summary.rejectedLinks, 0) << "appearance found no revisit to verify";
+  EXPECT_GE(again.summary.loopClosures, 3);
+  EXPECT_LT(test::worstLinkError(again.links, again.groundTruth, {Link::kGlobalClosure}), 0.10);
+}
+
 // Reproducible runs: the same input and parameters give the same map, to the bit (the
 // vocabulary's kd-trees come from a fixed seed; nothing else may draw from the clock or
 // std::random_device). A user comparing two parameter sets, and every figure of the benches,

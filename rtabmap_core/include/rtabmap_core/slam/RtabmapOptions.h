@@ -26,6 +26,7 @@ struct RtabmapOptions {
   bool saveDepth16 = false;               // Mem/SaveDepth16Format
   bool imagesAlreadyRectified = true;     // Rtabmap/ImagesAlreadyRectified
   bool computeRmse = true;                // Rtabmap/ComputeRMSE
+  bool loopClosureReextractFeatures = false;  // RGBD/LoopClosureReextractFeatures
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
   bool startNewMapOnLoopClosure = false;  // Rtabmap/StartNewMapOnLoopClosure
   bool startNewMapOnGoodSignature = false;  // Rtabmap/StartNewMapOnGoodSignature
