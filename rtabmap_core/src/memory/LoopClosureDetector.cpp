@@ -71,7 +71,7 @@ AddResult LoopClosureDetector::addLocation(const LocationInput& input, LoopClosu
   return added;
 }
 
-void LoopClosureDetector::detect(int id, LoopClosureUpdate& u, bool keepPosterior) {
+void LoopClosureDetector::detect(int id, LoopClosureUpdate& u, bool keepPosterior, bool keepLikelihood) {
   // A location merged by rehearsal is still the current place (T-RO 2013, III-C: L_c is merged
   // into L_t, which goes on to the Bayes filter): only bad signatures skip detection.
   const Signature* s = memory_.signature(id);
@@ -80,6 +80,7 @@ void LoopClosureDetector::detect(int id, LoopClosureUpdate& u, bool keepPosterio
   auto t = Clock::now();
   const bayes::Scores likelihood = bayes::adjustLikelihoodScores(memory_.likelihoodScores(id));
   u.likelihoodMs = msSince(t);
+  if (keepLikelihood) u.likelihood = bayes::toMap(likelihood);
   t = Clock::now();
   const bayes::Scores& posterior = filter_.updateScores(likelihood, neighbors);
   u.posteriorMs = msSince(t);

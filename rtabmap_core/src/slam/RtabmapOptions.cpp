@@ -26,6 +26,10 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.imagesAlreadyRectified = P::getBool(p, P::kRtabmapImagesAlreadyRectified());
   o.computeRmse = P::getBool(p, P::kRtabmapComputeRMSE());
   o.loopClosureReextractFeatures = P::getBool(p, P::kRGBDLoopClosureReextractFeatures());
+  o.publishStats = P::getBool(p, P::kRtabmapPublishStats());
+  o.publishPdf = P::getBool(p, P::kRtabmapPublishPdf());
+  o.publishLikelihood = P::getBool(p, P::kRtabmapPublishLikelihood());
+  o.saveWmState = P::getBool(p, P::kRtabmapSaveWMState());
   o.mapLabelsAdded = P::getBool(p, P::kMemMapLabelsAdded());
   o.startNewMapOnLoopClosure = P::getBool(p, P::kRtabmapStartNewMapOnLoopClosure());
   o.startNewMapOnGoodSignature = P::getBool(p, P::kRtabmapStartNewMapOnGoodSignature());

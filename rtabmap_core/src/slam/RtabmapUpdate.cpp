@@ -129,6 +129,7 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
     StageTimer t(stats, Statistics::kTimingMemory_release);
     memory::releaseFreedHeap();
   }
+  if (!options.publishStats) stats.setData({});  // the structured results stay
   return used;
 }
 
@@ -210,7 +211,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
 
   // --- loop closure detection, verified by registration in metric SLAM, else by epipolar
   // geometry (VhEp/Enabled) ---
-  detector->detect(newId, u, true);
+  detector->detect(newId, u, options.publishPdf, options.publishLikelihood);
   std::vector<Link> newLinks;
   if (u.highest.accepted) {
     std::optional<Link> link, refusedForJump;
@@ -367,7 +368,7 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
 
   // Localisations: a verified loop closure, else proximity links to the map near the estimate.
   std::vector<Link> found;
-  detector->detect(tempId, u, true);
+  detector->detect(tempId, u, options.publishPdf, options.publishLikelihood);
   if (u.highest.accepted) {
     if (std::optional<Link> l = verifyLoopClosure(tempId, u.highest.id, localized)) found.push_back(*l);
   }
@@ -437,6 +438,15 @@ void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nod
   stats.stamp = lastStamp;
   stats.mapCorrection = mapCorrection;
   stats.posterior = u.posterior;
+  stats.likelihood = u.likelihood;
+  if (options.saveWmState) {
+    stats.wmState.assign(memory.stm().begin(), memory.stm().end());
+    for (const auto& [id, age] : memory.wm()) {
+      (void)age;
+      stats.wmState.push_back(id);
+    }
+    std::sort(stats.wmState.begin(), stats.wmState.end());
+  }
   stats.addStatistic(Statistics::kLoopHighest_hypothesis_id, static_cast<float>(u.highest.id));
   stats.addStatistic(Statistics::kLoopHighest_hypothesis_value, u.highest.value);
   stats.addStatistic(Statistics::kLoopAccepted_hypothesis_id, static_cast<float>(stats.loopClosureId));

@@ -1,7 +1,7 @@
 #pragma once
 // Synthetic RGB-D frames for Rtabmap tests that need visual words: a 640x480 image of random
 // grey blocks (corners everywhere) over a slanted plane 1.5-2.5 m away, and the same frame
-// without texture (no word at all).
+// without texture (no word at all). Another seed, another texture.
 #include <opencv2/imgproc.hpp>
 
 #include "rtabmap_core/geometry/SensorData.h"
@@ -10,10 +10,10 @@ namespace rtabmap::test {
 
 constexpr int kTexturedWidth = 640, kTexturedHeight = 480;
 
-inline SensorData texturedFrame(int id, double stamp, bool textured = true) {
+inline SensorData texturedFrame(int id, double stamp, bool textured = true, int seed = 7) {
   cv::Mat blocks(kTexturedHeight / 16, kTexturedWidth / 16, CV_8UC1, cv::Scalar(128));
   if (textured) {
-    cv::RNG rng(7);
+    cv::RNG rng(static_cast<uint64_t>(seed));
     rng.fill(blocks, cv::RNG::UNIFORM, 0, 256);
   }
   cv::Mat grey, rgb;

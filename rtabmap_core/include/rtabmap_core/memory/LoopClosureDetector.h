@@ -42,6 +42,7 @@ struct LoopClosureUpdate {
   double memoryUpdateMs = 0, likelihoodMs = 0, posteriorMs = 0, hypothesisMs = 0;
   double retrievalMs = 0, transferMs = 0, totalMs = 0;
   std::map<int, float> posterior;   // kept only when asked (statistics)
+  std::map<int, float> likelihood;  // adjusted (eq. 4), kept only when asked
 };
 
 class LoopClosureDetector {
@@ -59,9 +60,9 @@ class LoopClosureDetector {
   // rehearsal). Fills u.id, merged, words, newWords, memoryUpdateMs.
   AddResult addLocation(const LocationInput& input, LoopClosureUpdate& u);
   // Likelihood over WM (adjusted by eq. 4), posterior, hypothesis selection for location `id`
-  // (no link is made). Fills u.highest, the timings and the posterior if asked. Nothing happens
-  // for a bad signature or an empty WM (u.highest stays empty).
-  void detect(int id, LoopClosureUpdate& u, bool keepPosterior);
+  // (no link is made). Fills u.highest, the timings, and the posterior and the likelihood if
+  // asked. Nothing happens for a bad signature or an empty WM (u.highest stays empty).
+  void detect(int id, LoopClosureUpdate& u, bool keepPosterior, bool keepLikelihood = false);
   // Appearance-only verification of an accepted hypothesis (VhEp/Enabled; nothing otherwise):
   // a refused one is no longer accepted and says why in u.highest.rejectedBecause. Returns
   // u.highest.accepted.

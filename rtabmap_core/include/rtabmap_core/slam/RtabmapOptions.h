@@ -27,6 +27,10 @@ struct RtabmapOptions {
   bool imagesAlreadyRectified = true;     // Rtabmap/ImagesAlreadyRectified
   bool computeRmse = true;                // Rtabmap/ComputeRMSE
   bool loopClosureReextractFeatures = false;  // RGBD/LoopClosureReextractFeatures
+  bool publishStats = true;               // Rtabmap/PublishStats
+  bool publishPdf = true;                 // Rtabmap/PublishPdf
+  bool publishLikelihood = true;          // Rtabmap/PublishLikelihood
+  bool saveWmState = false;               // Rtabmap/SaveWMState
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
   bool startNewMapOnLoopClosure = false;  // Rtabmap/StartNewMapOnLoopClosure
   bool startNewMapOnGoodSignature = false;  // Rtabmap/StartNewMapOnGoodSignature
