@@ -47,6 +47,7 @@ VocabularyOptions VocabularyOptions::fromParameters(const ParametersMap& paramet
   o.incrementalFlann = Parameters::getBool(parameters, Parameters::kKpIncrementalFlann());
   o.rebalancingFactor = Parameters::getFloat(parameters, Parameters::kKpFlannRebalancingFactor());
   o.byteToFloat = Parameters::getBool(parameters, Parameters::kKpByteToFloat());
+  o.newWordsComparedTogether = Parameters::getBool(parameters, Parameters::kKpNewWordsComparedTogether());
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
   return o;
@@ -152,7 +153,7 @@ std::vector<int> Vocabulary::quantize(const cv::Mat& descriptors, int locationId
     NearestTwo best{{{0, 0.f}, {0, 0.f}}};
     if (matches[i].wordId) offer(best, matches[i].wordId, matches[i].first);
     if (matches[i].second >= 0.f) offer(best, -1, matches[i].second);  // only its distance matters
-    for (size_t n = 0; n < newIds.size(); ++n) {
+    for (size_t n = 0; options_.newWordsComparedTogether && n < newIds.size(); ++n) {
       offer(best, newIds[n], rowDistance(descriptors, i, newRows[n]));
     }
     Match m;

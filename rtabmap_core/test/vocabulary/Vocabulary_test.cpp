@@ -106,6 +106,21 @@ TEST(Vocabulary, DescriptorsOfOneImageShareNewWords) {
   EXPECT_EQ(v.word(ids[0])->references.at(2), 2);
 }
 
+// Kp/NewWordsComparedTogether false: each copy makes a word of its own.
+TEST(Vocabulary, NewWordsNotComparedTogetherMakeAWordEach) {
+  VocabularyOptions o;
+  o.newWordsComparedTogether = false;
+  Vocabulary v(o);
+  v.quantize(randomFloat(20, 16, 3), 1);
+  cv::Mat fresh = randomFloat(1, 16, 4);
+  cv::Mat twice;
+  cv::vconcat(fresh, fresh, twice);
+  const auto ids = v.quantize(twice, 2);
+  EXPECT_NE(ids[0], ids[1]);
+  EXPECT_EQ(v.size(), 22u);
+  EXPECT_FALSE(VocabularyOptions::fromParameters({{"Kp/NewWordsComparedTogether", "false"}}).newWordsComparedTogether);
+}
+
 // Same for binary descriptors, where the distance between new words of one image is the
 // Hamming distance: a near copy (3 bits flipped) of a new word joins it, a far one does not.
 TEST(Vocabulary, BinaryDescriptorsOfOneImageShareNewWords) {

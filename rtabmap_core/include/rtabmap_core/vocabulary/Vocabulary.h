@@ -40,6 +40,7 @@ struct VocabularyOptions {
   bool incrementalFlann = true;                 // Kp/IncrementalFlann
   float rebalancingFactor = 2.0f;               // Kp/FlannRebalancingFactor
   bool byteToFloat = false;                     // Kp/ByteToFloat
+  bool newWordsComparedTogether = true;         // Kp/NewWordsComparedTogether
   int kdTrees = 4;      // the paper's forest of four randomised kd-trees
   // Leaves visited per kd-tree / LSH query: the approximation of the search. The original's 32;
   // each check costs a descent through trees far larger than the caches (about 2 us per check
