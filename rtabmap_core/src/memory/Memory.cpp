@@ -160,7 +160,11 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
   selectStrongest(in);
 
   AddResult result;
-  const int id = lastId_ + 1;
+  if (in.id < 0 || (in.id != 0 && in.id <= lastId_)) {
+    throw std::invalid_argument("Memory::addLocation: id " + std::to_string(in.id) + " is not above the last location's " +
+                                std::to_string(lastId_));
+  }
+  const int id = in.id != 0 ? in.id : lastId_ + 1;
   const std::vector<int> wordIds = vocabulary_.quantize(in.descriptors, id);
   std::multimap<int, int> words;
   for (size_t i = 0; i < wordIds.size(); ++i) {

@@ -89,6 +89,7 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
     data.setFeatures({}, {}, cv::Mat());  // the words hold what is kept of them
   }
   in.data = data;
+  if (!options.generateIds && options.incremental) in.id = raw.id();  // checked by checkInput
   in.pose = odom;
   in.stamp = raw.stamp();
   in.mapId = mapId;

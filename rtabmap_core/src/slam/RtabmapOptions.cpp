@@ -30,6 +30,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.publishPdf = P::getBool(p, P::kRtabmapPublishPdf());
   o.publishLikelihood = P::getBool(p, P::kRtabmapPublishLikelihood());
   o.saveWmState = P::getBool(p, P::kRtabmapSaveWMState());
+  o.generateIds = P::getBool(p, P::kMemGenerateIds());
   o.mapLabelsAdded = P::getBool(p, P::kMemMapLabelsAdded());
   o.startNewMapOnLoopClosure = P::getBool(p, P::kRtabmapStartNewMapOnLoopClosure());
   o.startNewMapOnGoodSignature = P::getBool(p, P::kRtabmapStartNewMapOnGoodSignature());

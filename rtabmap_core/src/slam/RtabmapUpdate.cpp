@@ -34,6 +34,14 @@ bool Rtabmap::Impl::checkInput(const SensorData& data, const Transform& odom, co
     if (!covariance.allFinite()) return refuse("odometry covariance is not finite");
     if (isLostCovariance(covariance)) return refuse("odometry is lost (covariance 9999); waiting for it to recover");
   }
+  if (!options.generateIds && options.incremental) {
+    const int last = detector->memory().lastLocationId();
+    if (data.id() <= 0) return refuse("the frame has no id (Mem/GenerateIds false needs one, > 0)");
+    if (data.id() <= last) {
+      return refuse("frame id " + std::to_string(data.id()) + " is not above the last node's " + std::to_string(last) +
+                    " (Mem/GenerateIds false)");
+    }
+  }
   const double stamp = data.stamp();
   if (!std::isfinite(stamp)) return refuse("stamp is not finite");
   if (stamp > 0.0 && lastStamp > 0.0 && stamp < lastStamp) {

@@ -157,6 +157,30 @@ TEST(Rtabmap, ClockJumpingBackAcceptsOlderStampsInANewMap) {
   EXPECT_EQ(slam.mapId(), firstMap + 1);
 }
 
+// Mem/GenerateIds false: a node takes its frame's id, which must be positive and increasing.
+TEST(Rtabmap, NodesTakeTheFrameIdsWhenIdsAreNotGenerated) {
+  for (const bool generate : {true, false}) {
+    SCOPED_TRACE(generate ? "default" : "Mem/GenerateIds false");
+    Rtabmap slam;
+    ParametersMap p = everyFrame();
+    p["Mem/GenerateIds"] = generate ? "true" : "false";
+    slam.init(p, "");
+    ASSERT_TRUE(slam.process(frame(10, 1.0), along(0.0), smallCov())) << slam.lastRejection();
+    ASSERT_TRUE(slam.process(frame(20, 2.0), along(0.5), smallCov())) << slam.lastRejection();
+    EXPECT_EQ(slam.lastNodeId(), generate ? 2 : 20);
+    const bool older = slam.process(frame(15, 3.0), along(1.0), smallCov());
+    const bool none = slam.process(frame(0, 4.0), along(1.5), smallCov());
+    EXPECT_EQ(older, generate);
+    EXPECT_EQ(none, generate);
+    if (!generate) {
+      EXPECT_NE(slam.lastRejection().find("no id"), std::string::npos) << slam.lastRejection();
+    }
+    const std::map<int, Transform> poses = slam.optimizedPoses();
+    EXPECT_EQ(poses.begin()->first, generate ? 1 : 10);
+    EXPECT_EQ(poses.size(), generate ? 4u : 2u);
+  }
+}
+
 TEST(Rtabmap, OdometryResetStartsANewMapNotLinkedToTheOldOne) {
   Rtabmap slam;
   slam.init(everyFrame(), "");

@@ -74,6 +74,7 @@ struct MemoryOptions {
 // What a new location is made of: features already extracted from its image (Algorithm 2
 // keeps the Kp/MaxFeatures strongest by response) and the data and pose it carries.
 struct LocationInput {
+  int id = 0;                          // its id (Mem/GenerateIds false), above every other; 0: the next one
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;                 // one row per keypoint
   std::vector<cv::Point3f> points3D;   // optional, one per keypoint

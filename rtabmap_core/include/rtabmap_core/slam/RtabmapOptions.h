@@ -31,6 +31,7 @@ struct RtabmapOptions {
   bool publishPdf = true;                 // Rtabmap/PublishPdf
   bool publishLikelihood = true;          // Rtabmap/PublishLikelihood
   bool saveWmState = false;               // Rtabmap/SaveWMState
+  bool generateIds = true;                // Mem/GenerateIds
   bool mapLabelsAdded = true;             // Mem/MapLabelsAdded
   bool startNewMapOnLoopClosure = false;  // Rtabmap/StartNewMapOnLoopClosure
   bool startNewMapOnGoodSignature = false;  // Rtabmap/StartNewMapOnGoodSignature
