@@ -2,6 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "SideBySide.h"
 #include "rtabmap_core/features/DepthFeatures.h"
 
 namespace rtabmap {
@@ -11,16 +12,12 @@ namespace {
 // image would average pixels across a camera boundary and, when a camera's width is not a
 // multiple of the decimation, move the boundaries off the columns the models expect.
 cv::Mat shrinkSideBySide(const cv::Mat& image, int n, int decimation) {
-  const int w = image.cols / n;
-  const cv::Size size(w / decimation, image.rows / decimation);
-  std::vector<cv::Mat> parts(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    cv::resize(image.colRange(i * w, (i + 1) * w), parts[static_cast<size_t>(i)], size, 0, 0, cv::INTER_AREA);
-  }
-  if (n == 1) return parts.front();
-  cv::Mat out;
-  cv::hconcat(parts, out);
-  return out;
+  const cv::Size size(image.cols / n / decimation, image.rows / decimation);
+  return geometry_detail::eachCamera(image, n, [&](const cv::Mat& part, int) {
+    cv::Mat small;
+    cv::resize(part, small, size, 0, 0, cv::INTER_AREA);
+    return small;
+  });
 }
 
 }  // namespace

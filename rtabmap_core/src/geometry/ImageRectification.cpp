@@ -5,24 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "SideBySide.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/features/DepthFeatures.h"
 
 namespace rtabmap {
 namespace {
-
-// Column range of camera i of n side by side.
-cv::Mat part(const cv::Mat& image, int i, int n) {
-  const int w = image.cols / n;
-  return image.colRange(i * w, (i + 1) * w);
-}
-
-cv::Mat joined(const std::vector<cv::Mat>& parts) {
-  if (parts.size() == 1) return parts.front();
-  cv::Mat out;
-  cv::hconcat(parts, out);
-  return out;
-}
 
 // The depth of camera `m` (registered to its raw colour image, `factor` times smaller).
 cv::Mat rectifyDepthOf(const CameraModel& m, const cv::Mat& depth, int factor) {
@@ -43,34 +31,29 @@ SensorData rectifyRgbd(const SensorData& data) {
                         std::to_string(image.rows));
     }
   }
-  std::vector<cv::Mat> images, depths;
   std::vector<CameraModel> rectified;
-  for (int i = 0; i < n; ++i) {
-    const CameraModel& m = models[static_cast<size_t>(i)];
-    images.push_back(m.rectifyImage(part(image, i, n)));
-    if (!depth.empty()) depths.push_back(rectifyDepthOf(m, part(depth, i, n), factor));
-    rectified.push_back(m.rectified());
-  }
+  for (const CameraModel& m : models) rectified.push_back(m.rectified());
+  const cv::Mat images =
+      geometry_detail::eachCamera(image, n, [&](const cv::Mat& part, int i) { return models[size_t(i)].rectifyImage(part); });
+  const cv::Mat depths = depth.empty() ? depth : geometry_detail::eachCamera(depth, n, [&](const cv::Mat& part, int i) {
+    return rectifyDepthOf(models[size_t(i)], part, factor);
+  });
   SensorData out = data;
-  out.setRGBDImage(joined(images), depth.empty() ? depth : joined(depths), rectified);
+  out.setRGBDImage(images, depths, rectified);
   return out;
 }
 
 SensorData rectifyStereo(const SensorData& data) {
   const std::vector<StereoCameraModel>& models = data.stereoCameraModels();
   const int n = static_cast<int>(models.size());
-  std::vector<cv::Mat> lefts, rights;
   std::vector<StereoCameraModel> rectified;
-  for (int i = 0; i < n; ++i) {
-    const StereoCameraModel& m = models[static_cast<size_t>(i)];
-    cv::Mat left, right;
-    m.rectify(part(data.imageRaw(), i, n), part(data.depthOrRightRaw(), i, n), left, right);
-    lefts.push_back(left);
-    rights.push_back(right);
-    rectified.push_back(m.rectified());
-  }
+  for (const StereoCameraModel& m : models) rectified.push_back(m.rectified());
+  const cv::Mat lefts = geometry_detail::eachCamera(
+      data.imageRaw(), n, [&](const cv::Mat& part, int i) { return models[size_t(i)].left().rectifyImage(part); });
+  const cv::Mat rights = geometry_detail::eachCamera(
+      data.depthOrRightRaw(), n, [&](const cv::Mat& part, int i) { return models[size_t(i)].right().rectifyImage(part); });
   SensorData out = data;
-  out.setStereoImage(joined(lefts), joined(rights), rectified);
+  out.setStereoImage(lefts, rights, rectified);
   return out;
 }
 

@@ -165,6 +165,16 @@ cv::Mat depthFromStereoCameras(const cv::Mat& left, const cv::Mat& right, const 
   return depth;
 }
 
+cv::Mat depthOfFrame(const SensorData& data, const StereoBMOptions& options, std::vector<CameraModel>* models) {
+  if (!data.isStereo()) {
+    *models = data.cameraModels();
+    return data.depthOrRightRaw();
+  }
+  models->clear();
+  for (const StereoCameraModel& stereo : data.stereoCameraModels()) models->push_back(stereo.left());
+  return depthFromStereoCameras(data.imageRaw(), data.depthOrRightRaw(), data.stereoCameraModels(), options);
+}
+
 Cloud cloudFromScan(const LaserScan& scan, const LocalGridOptions& options, int* invalidOut) {
   Cloud cloud;
   int invalid = 0;

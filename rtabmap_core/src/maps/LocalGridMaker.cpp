@@ -78,12 +78,9 @@ void cloudGrid(const SensorData& data, bool useDepth, bool useScan, const LocalG
   std::ostringstream source;
   int depthPixels = 0, depthValid = 0;
   if (useDepth) {
-    cv::Mat depth = data.depthOrRightRaw();
-    std::vector<CameraModel> models = data.cameraModels();
+    std::vector<CameraModel> models;
+    const cv::Mat depth = depthOfFrame(data, o.stereo, &models);
     if (data.isStereo()) {
-      depth = depthFromStereoCameras(data.imageRaw(), data.depthOrRightRaw(), data.stereoCameraModels(), o.stereo);
-      models.clear();
-      for (const StereoCameraModel& stereo : data.stereoCameraModels()) models.push_back(stereo.left());
       timer.lap("stereo block matching");
       source << "stereo";
     } else {

@@ -17,15 +17,12 @@ Cloud cloudOf(const SensorData& frame) {
   o.rangeMax = 5.0f;
   SensorData data = frame;
   data.uncompress(true, true, true, false);
-  if (data.isStereo() && !data.imageRaw().empty() && !data.depthOrRightRaw().empty()) {
-    std::vector<CameraModel> lefts;
-    for (const StereoCameraModel& m : data.stereoCameraModels()) lefts.push_back(m.left());
-    const cv::Mat depth =
-        depthFromStereoCameras(data.imageRaw(), data.depthOrRightRaw(), data.stereoCameraModels(), StereoBMOptions());
-    return cloudFromDepth(depth, cv::Mat(), lefts, o);
-  }
-  if (!data.depthOrRightRaw().empty() && !data.cameraModels().empty()) {
-    return cloudFromDepth(data.depthOrRightRaw(), cv::Mat(), data.cameraModels(), o);
+  const bool depthOrStereo = !data.depthOrRightRaw().empty() &&
+                             (data.isStereo() ? !data.imageRaw().empty() : !data.cameraModels().empty());
+  if (depthOrStereo) {
+    std::vector<CameraModel> models;
+    const cv::Mat depth = depthOfFrame(data, o.stereo, &models);
+    return cloudFromDepth(depth, cv::Mat(), models, o);
   }
   if (!data.laserScanRaw().empty() && !data.laserScanRaw().is2d()) return cloudFromScan(data.laserScanRaw(), o);
   return Cloud();

@@ -199,14 +199,16 @@ void Rtabmap::Impl::addGroundTruthStatistics(int nodeId) {
   }
   const std::optional<GroundTruthErrors> e = groundTruthErrors(poses, truth);
   if (!e) return;
-  const std::pair<const char*, const ErrorStats*> groups[] = {{"Translational", &e->translational},
-                                                              {"Rotational", &e->rotational}};
-  for (const auto& [name, s] : groups) {
-    const std::string unit = std::string(name) == "Translational" ? "/m" : "/deg";
-    const std::pair<const char*, double> values[] = {{"rmse", s->rmse}, {"mean", s->mean}, {"median", s->median},
-                                                     {"std", s->std},   {"min", s->min},   {"max", s->max}};
+  const struct {
+    const char* name;
+    const char* unit;
+    const ErrorStats& s;
+  } groups[] = {{"Translational", "/m", e->translational}, {"Rotational", "/deg", e->rotational}};
+  for (const auto& g : groups) {
+    const std::pair<const char*, double> values[] = {{"rmse", g.s.rmse}, {"mean", g.s.mean}, {"median", g.s.median},
+                                                     {"std", g.s.std},   {"min", g.s.min},   {"max", g.s.max}};
     for (const auto& [what, value] : values) {
-      stats.addStatistic("Gt/" + std::string(name) + "_" + what + unit, static_cast<float>(value));
+      stats.addStatistic(std::string("Gt/") + g.name + "_" + what + g.unit, static_cast<float>(value));
     }
   }
 }

@@ -122,8 +122,7 @@ struct Rtabmap::Impl {
   bool isStill(const Transform& odom) const;
   bool tooFast(const Transform& odom, double stamp) const;
   bool mappingUpdate(const SensorData& data, const Transform& odom);
-  // Rtabmap/StartNewMapOnLoopClosure.
-  bool earlierMapExists() const;
+  // Rtabmap/StartNewMapOnLoopClosure: the first node of the current map taken back.
   void discardFirstNode(int id);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);

@@ -141,15 +141,6 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
   return used;
 }
 
-// Rtabmap/StartNewMapOnLoopClosure: a map joins an earlier one or does not start.
-bool Rtabmap::Impl::earlierMapExists() const {
-  for (const auto& [id, pose] : graph.poses()) {
-    (void)pose;
-    if (graph.mapOf(id) != mapId) return true;
-  }
-  return false;
-}
-
 // The first node of the current map taken back (Rtabmap/StartNewMapOnLoopClosure): the map is
 // as if the frame had not come.
 void Rtabmap::Impl::discardFirstNode(int id) {
@@ -200,7 +191,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     return false;
   }
   const bool waitingForClosure = firstOfMap && options.metric && options.startNewMapOnLoopClosure && !added.merged &&
-                                 earlierMapExists();
+                                 graph.hasPoseOutside(mapId);
   if (options.metric && !added.merged) {
     graph.setPose(newId, mapId, mapCorrection * odom);
     motionCovariance.setZero();

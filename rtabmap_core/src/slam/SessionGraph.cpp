@@ -89,6 +89,13 @@ std::map<int, Transform> SessionGraph::posesOfGroup(int mapId) const {
   return out;
 }
 
+bool SessionGraph::hasPoseOutside(int mapId) const {
+  for (const auto& [id, n] : nodes_) {
+    if (!n.pose.isNull() && n.mapId != mapId) return true;
+  }
+  return false;
+}
+
 std::map<int, Transform> SessionGraph::poses() const {
   std::map<int, Transform> out;
   for (const auto& [id, n] : nodes_) {

@@ -75,6 +75,10 @@ cv::Mat depthFromStereo(const cv::Mat& left, const cv::Mat& right, const StereoC
 cv::Mat depthFromStereoCameras(const cv::Mat& left, const cv::Mat& right, const std::vector<StereoCameraModel>& models,
                                const StereoBMOptions& options);
 
+// The depth image of a frame (its own, or its stereo pairs' by depthFromStereoCameras) and, in
+// *models, the models that back-project it (the left cameras' for stereo).
+cv::Mat depthOfFrame(const SensorData& data, const StereoBMOptions& options, std::vector<CameraModel>* models);
+
 // ------------------------------------------------------------------ 3D scans
 // The points of a 3D scan in the base frame, Grid/ScanDecimation and range limits applied;
 // colours when the scan has RGB. NaN/inf points are dropped and counted in *invalid.

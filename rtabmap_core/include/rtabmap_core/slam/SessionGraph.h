@@ -44,6 +44,8 @@ class SessionGraph {
   std::map<int, Transform> posesOfGroup(int mapId) const;
   // Every node with a pose.
   std::map<int, Transform> poses() const;
+  // Some node with a pose belongs to another map than `mapId` (stops at the first one).
+  bool hasPoseOutside(int mapId) const;
   size_t size() const { return nodes_.size(); }
 
  private:
