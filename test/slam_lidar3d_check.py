@@ -2,17 +2,23 @@
 """Checks slam_lidar3d.test: 3D lidar SLAM end to end. icp_odometry follows the simulated
 VLP-16 with the wheel guess (few lost frames, ATE well below the wheel odometry's), and the
 rtabmap node on the same clouds builds a graph that closes the loop by proximity, an occupancy
-grid from the 3D local grids, and map -> icp_odom in tf."""
+grid from the 3D local grids, and map -> icp_odom in tf. An IMU filter's orientation on
+/imu/data (published here, level, from an IMU mounted upside down on the base) gives each node
+a level gravity link."""
+import math
 import os
 import subprocess
 import sys
+import threading
 import time
 import unittest
 
 import rospy
 import rostest
 import tf2_ros
+from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import OccupancyGrid, Odometry
+from sensor_msgs.msg import Imu
 
 from rtabmap_ros.msg import Info, MapGraph
 
@@ -49,10 +55,40 @@ class SlamLidar3dTest(unittest.TestCase):
         common.convert(self, "sim", sim + "?scan=lidar", bag, "--no-imu")
         return bag
 
+    def publish_imu(self, stop):
+        """An IMU filter's output at each new ROS time (the bag's /clock): the robot is level,
+        the IMU upside down under it (imu_link, roll pi), so its own orientation is roll pi."""
+        static = tf2_ros.StaticTransformBroadcaster()
+        mount = TransformStamped()
+        mount.header.frame_id, mount.child_frame_id = "base_link", "imu_link"
+        mount.transform.translation.z = -0.1
+        mount.transform.rotation.x, mount.transform.rotation.w = 1.0, 0.0
+        static.sendTransform(mount)
+        pub = rospy.Publisher("/imu/data", Imu, queue_size=100)
+        last = rospy.Time(0)
+        while not stop.is_set():
+            now = rospy.Time.now()
+            if now > last:
+                m = Imu()
+                m.header.stamp, m.header.frame_id = now, "imu_link"
+                m.orientation.x, m.orientation.w = 1.0, 0.0
+                m.linear_acceleration.z = -9.81
+                m.angular_velocity_covariance[0] = m.linear_acceleration_covariance[0] = 0.01
+                pub.publish(m)
+                last = now
+            time.sleep(0.005)
+
     def test_lidar3d_slam_on_simulated_loop(self):
         bag = self.make_bag()
         started = time.time()
-        common.play(self, bag, rospy.get_param("~rate", 2), timeout=240)
+        stop = threading.Event()
+        imu = threading.Thread(target=self.publish_imu, args=(stop,), daemon=True)
+        imu.start()
+        try:
+            common.play(self, bag, rospy.get_param("~rate", 2), timeout=240)
+        finally:
+            stop.set()
+            imu.join()
         common.wait_quiet(self.info, quiet=3.0, timeout=60.0)
         rospy.loginfo("bag played in %.1f s wall: %d odom, %d info, %d mapGraph, %d grid_map",
                       time.time() - started, len(self.odoms), len(self.info), len(self.graphs), len(self.grids))
@@ -94,6 +130,13 @@ class SlamLidar3dTest(unittest.TestCase):
         rospy.loginfo("mapGraph: %d nodes, %d links, %d loop closure / proximity", len(ids), len(graph.links),
                       len(loops))
         self.assertGreater(len(loops), 0, "the tour's end was not linked to its start")
+        # Gravity links (type 9, a node to itself) from /imu/data, brought to the base: level.
+        gravity = {l.fromId: l.transform.rotation for l in graph.links if l.type == 9 and l.fromId == l.toId}
+        rospy.loginfo("gravity links on %d of %d nodes", len(gravity), len(ids))
+        self.assertGreaterEqual(len(gravity), 0.9 * len(ids), "nodes without the IMU's gravity link")
+        for node, q in gravity.items():
+            tilt = 2.0 * math.asin(min(1.0, math.hypot(q.x, q.y)))  # angle of the up axis from vertical
+            self.assertLess(tilt, 1e-3, f"node {node}'s gravity link is tilted {tilt:.3f} rad (imu_link not applied?)")
         # The optimised nodes against the ground truth at their stamps.
         stamps = {i.refId: i.header.stamp.to_nsec() for i in self.info}
         slam, truth = [], []

@@ -3,6 +3,7 @@
 // and/or laser scan placed on the robot through tf). Interface: RtabmapNodelet.h.
 #include "RtabmapNodelet.h"
 
+#include "rtabmap_conversions/ImuConversions.h"
 #include "rtabmap_conversions/OdometryConversions.h"
 #include "rtabmap_conversions/RGBDImageConversions.h"
 #include "rtabmap_conversions/TfLookup.h"
@@ -119,6 +120,42 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
   }
   frame->setStamp(d.stamp.toSec());
   return frame;
+}
+
+void RtabmapNodelet::onImu(const sensor_msgs::ImuConstPtr& msg) {
+  std::string why;
+  const std::optional<rtabmap::IMU> imu = rtabmap_conversions::imuFromMsg(*msg, rtabmap::Transform::Identity(), &why);
+  if (!imu) {
+    if (imuWarnings_.due("imu")) NODELET_WARN("%s: imu message ignored: %s.", getName().c_str(), why.c_str());
+    return;
+  }
+  if (!imu->hasOrientation()) return;  // a raw IMU: nothing to say about gravity here
+  if (!imuOrientations_.add({msg->header.stamp.toSec(), imu->orientation, msg->header.frame_id}, &why) &&
+      imuWarnings_.due("imu order")) {
+    NODELET_WARN("%s: imu orientation ignored: %s.", getName().c_str(), why.c_str());
+  }
+}
+
+void RtabmapNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp) {
+  if (imuOrientations_.empty()) return;
+  const std::optional<rtabmap_slam_node::ImuOrientation> sample = imuOrientations_.at(stamp.toSec());
+  std::string why;
+  if (!sample) {
+    why = "no imu orientation within 0.1 s of the frame";
+  } else {
+    // The IMU's pose on the robot (the orientation is the IMU frame's, not the base's).
+    const rtabmap::Transform local = sensorPose(sample->frameId, stamp, &why);
+    if (!local.isNull()) {
+      rtabmap::IMU imu;
+      imu.orientation = sample->orientation;
+      imu.localTransform = local;
+      frame.setIMU(imu);
+      return;
+    }
+  }
+  if (warnings_.due("imu attach")) {
+    NODELET_WARN("%s: frame at %.6f has no gravity reference: %s.", getName().c_str(), stamp.toSec(), why.c_str());
+  }
 }
 
 void RtabmapNodelet::onInitialPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg) {

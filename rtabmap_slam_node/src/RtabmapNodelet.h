@@ -36,7 +36,10 @@
 //   node_label when node_id is 0); initialpose (geometry_msgs/PoseWithCovarianceStamped,
 //   rviz's "2D Pose Estimate"; map_frame_id, or a frame tf can bring to it; the covariance is
 //   not used): the robot is there now (Rtabmap::setInitialPose; refused, with a warning, in
-//   mapping mode once the map has nodes).
+//   mapping mode once the map has nodes); imu (sensor_msgs/Imu with an orientation, e.g.
+//   imu_filter_madgwick's; samples without one are ignored): each frame takes the orientation
+//   at its stamp, placed on the robot by tf, and its node a gravity link from it
+//   (Optimizer/GravitySigma > 0 uses them; Mem/UseOdomGravity takes the odometry's instead).
 // Topics out: info (rtabmap_ros/Info), mapGraph (rtabmap_ros/MapGraph), grid_map
 //   (nav_msgs/OccupancyGrid, latched, computed only when subscribed), localization_pose
 //   (geometry_msgs/PoseWithCovarianceStamped, localization mode), tf map -> odom;
@@ -99,6 +102,7 @@
 #include <nav_msgs/GetMap.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <rtabmap_ros/AddLink.h>
 #include <rtabmap_ros/GetMap.h>
 #include <rtabmap_ros/GetNodeData.h>
@@ -125,6 +129,7 @@
 
 #include "MapsPublisher.h"
 #include "rtabmap_core/slam/Rtabmap.h"
+#include "rtabmap_slam_node/ImuOrientationBuffer.h"
 #include "rtabmap_slam_node/SlamNodeSupport.h"
 #include "rtabmap_sync/DataSubscriber.h"
 #include "rtabmap_sync/LogThrottle.h"
@@ -198,6 +203,10 @@ class RtabmapNodelet : public nodelet::Nodelet {
   // start of the core (mutex_ held); logs whether the core took it, and moves map -> odom.
   void onInitialPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
   bool applyInitialPose(const rtabmap::Transform& pose, const char* from);
+  // IMU orientation (RtabmapInputs.cpp): samples kept without taking mutex_ (an update may
+  // hold it for a while); a frame gets the one at its stamp, if any (mutex_ held).
+  void onImu(const sensor_msgs::ImuConstPtr& msg);
+  void attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp);
 
   // Map views and map data (RtabmapMapData.cpp).
   void publishMarkers(const ros::Time& stamp, bool force = false);
@@ -254,6 +263,9 @@ class RtabmapNodelet : public nodelet::Nodelet {
   ros::Subscriber goalSub_, goalNodeSub_;
   std::optional<rtabmap::Transform> initialPose_;  // initial_pose
   ros::Subscriber initialPoseSub_;
+  ros::Subscriber imuSub_;
+  rtabmap_slam_node::ImuOrientationBuffer imuOrientations_;
+  rtabmap_sync::LogThrottle imuWarnings_;  // onImu's own (never called concurrently with itself)
   bool goalPathShown_ = false;  // the last path published was not empty
   std::vector<ros::ServiceServer> services_;
   ros::WallTimer tfTimer_;

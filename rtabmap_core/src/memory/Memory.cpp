@@ -9,6 +9,7 @@
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/db/Database.h"
+#include "rtabmap_core/memory/GravityLink.h"
 #include "rtabmap_core/vocabulary/Similarity.h"
 
 namespace rtabmap::memory {
@@ -43,6 +44,7 @@ MemoryOptions MemoryOptions::fromParameters(const ParametersMap& p) {
   o.stillLinear = Parameters::getFloat(p, Parameters::kRGBDLinearUpdate());
   o.stillAngular = Parameters::getFloat(p, Parameters::kRGBDAngularUpdate());
   o.rehearsalWeightIgnoredWhileMoving = Parameters::getBool(p, Parameters::kMemRehearsalWeightIgnoredWhileMoving());
+  o.useOdomGravity = Parameters::getBool(p, Parameters::kMemUseOdomGravity());
   o.vocabulary = vocabulary::VocabularyOptions::fromParameters(p);
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
@@ -204,6 +206,9 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
     fresh.setWords(dense, kpts, pts, desc);
   }
   fresh.setBadSignature(result.badSignature);
+  if (std::optional<Link> gravity = gravityLinkOf(id, in.pose, in.data.imu(), options_.useOdomGravity)) {
+    fresh.addLink(*gravity);
+  }
 
   // Neighbour link to the previous location (odometry between them, identity without poses).
   // The location the last update left (the kept one after a rehearsal merge), if still in RAM.
@@ -250,8 +255,10 @@ void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) 
   Signature& kept = options_.rehearsalIdUpdatedToNewOne ? fresh : previous;
   const int removedId = removed.id();
   removeLinkBetween(kept, removed);
-  // The removed location's other links now end on the kept one.
+  // The removed location's other links now end on the kept one (its own gravity link stays
+  // with it: the kept location has one of its own).
   for (const auto& [to, link] : std::multimap<int, Link>(removed.getLinks())) {
+    if (to == removedId) continue;
     Signature* other = signatures_.count(to) ? &signatures_.at(to) : nullptr;
     if (!other) continue;
     Link moved = link;

@@ -62,9 +62,11 @@ std::multimap<int, Link> Rtabmap::Impl::ramLinks(const std::map<int, Transform>&
     const Signature* s = detector->memory().signature(id);
     if (!s) continue;
     for (const auto& [to, link] : s->getLinks()) {
-      // Each link once (from its smaller id); both ends must be in the local map.
-      if (to <= id || !poses.count(to) || link.type() == Link::kLandmark) continue;
-      links.emplace(id, link);
+      // Each link once (from its smaller id); both ends must be in the local map. A node's
+      // gravity link is its own (the optimiser uses it with Optimizer/GravitySigma).
+      const bool kept = to == id ? link.type() == Link::kGravity
+                                 : to > id && poses.count(to) && link.type() != Link::kLandmark;
+      if (kept) links.emplace(id, link);
     }
   }
   return links;
@@ -120,7 +122,10 @@ std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<L
   // registration is satisfied by the optimiser, and it is the odometry that bends.
   double worst = 0.0, worstMetres = 0.0;
   for (const auto& [from, link] : inside) {
-    if (!optimised.count(link.from()) || !optimised.count(link.to()) || link.type() == Link::kVirtualClosure) continue;
+    if (link.from() == link.to() || !optimised.count(link.from()) || !optimised.count(link.to()) ||
+        link.type() == Link::kVirtualClosure) {
+      continue;  // (gravity: the optimiser's own residual, not a motion between two poses)
+    }
     double metres = 0.0;
     const double e = normalisedError(link, optimised, optimizer.force3DoF, &metres);
     if (e > worst) {

@@ -65,6 +65,9 @@ struct MemoryOptions {
   float stillLinear = 0.0f;   // RGBD/LinearUpdate (m)
   float stillAngular = 0.0f;  // RGBD/AngularUpdate (rad)
   bool rehearsalWeightIgnoredWhileMoving = false;
+  // Mem/UseOdomGravity: a new location's gravity link (GravityLink.h) takes its orientation
+  // from the odometry pose rather than from the frame's IMU.
+  bool useOdomGravity = false;
   vocabulary::VocabularyOptions vocabulary;
 
   static MemoryOptions fromParameters(const ParametersMap& parameters);

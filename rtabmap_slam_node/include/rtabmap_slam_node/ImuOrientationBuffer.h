@@ -1,0 +1,45 @@
+#pragma once
+// The rtabmap node's `imu` topic: the orientations an IMU filter publishes (sensor_msgs/Imu
+// with an orientation, e.g. imu_filter_madgwick's output, at 100-400 Hz), kept for a few seconds
+// so each frame gets the orientation at its own stamp. The core turns it into the node's
+// gravity link (rtabmap_core/memory/GravityLink.h; used with Optimizer/GravitySigma > 0).
+// Thread-safe: the imu callback and the data callback may run at once.
+#include <Eigen/Geometry>
+
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+
+namespace rtabmap_slam_node {
+
+struct ImuOrientation {
+  double stamp = 0.0;
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // of frameId in the IMU's world
+  std::string frameId;
+};
+
+class ImuOrientationBuffer {
+ public:
+  // keepSeconds: history kept behind the newest sample. maxGapSeconds: two samples farther
+  // apart than this do not interpolate (the IMU stopped), and a stamp at most this far past
+  // the newest sample takes it as it is.
+  explicit ImuOrientationBuffer(double keepSeconds = 5.0, double maxGapSeconds = 0.1);
+
+  // False, with why, for a sample that cannot be used: not finite, a null quaternion, or not
+  // newer than the previous one (out of order). A sample older than the whole history kept
+  // means ROS time went back: the history is dropped and the sample taken.
+  bool add(const ImuOrientation& sample, std::string* why = nullptr);
+  // The orientation at `stamp`: spherical interpolation between the samples around it; none
+  // when no sample is within maxGapSeconds (the caller then gives the frame no orientation).
+  std::optional<ImuOrientation> at(double stamp) const;
+  bool empty() const;
+  void clear();  // ROS time jumped back (a restarted bag): older stamps come again
+
+ private:
+  double keep_, maxGap_;
+  mutable std::mutex mutex_;
+  std::deque<ImuOrientation> samples_;  // by increasing stamp
+};
+
+}  // namespace rtabmap_slam_node

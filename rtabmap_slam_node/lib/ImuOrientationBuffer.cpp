@@ -1,0 +1,67 @@
+#include "rtabmap_slam_node/ImuOrientationBuffer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rtabmap_slam_node {
+
+ImuOrientationBuffer::ImuOrientationBuffer(double keepSeconds, double maxGapSeconds)
+    : keep_(keepSeconds), maxGap_(maxGapSeconds) {}
+
+bool ImuOrientationBuffer::add(const ImuOrientation& sample, std::string* why) {
+  auto fail = [why](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  const Eigen::Vector4d q = sample.orientation.coeffs();
+  if (!std::isfinite(sample.stamp) || !q.allFinite()) return fail("not a finite stamp and orientation");
+  if (q.squaredNorm() < 1e-12) return fail("no orientation (null quaternion)");
+  std::lock_guard<std::mutex> lock(mutex_);
+  // Older than all the history kept: ROS time went back (a restarted bag), not a late sample.
+  if (!samples_.empty() && sample.stamp < samples_.back().stamp - keep_) samples_.clear();
+  if (!samples_.empty() && sample.stamp <= samples_.back().stamp) {
+    return fail("stamp " + std::to_string(sample.stamp) + " is not after the previous sample's " +
+                std::to_string(samples_.back().stamp));
+  }
+  ImuOrientation s = sample;
+  s.orientation.normalize();
+  samples_.push_back(std::move(s));
+  while (samples_.front().stamp < samples_.back().stamp - keep_) samples_.pop_front();
+  return true;
+}
+
+std::optional<ImuOrientation> ImuOrientationBuffer::at(double stamp) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (samples_.empty() || !std::isfinite(stamp)) return std::nullopt;
+  const auto after = std::lower_bound(samples_.begin(), samples_.end(), stamp,
+                                      [](const ImuOrientation& s, double t) { return s.stamp < t; });
+  if (after == samples_.end()) {
+    // Past the newest sample (the frame came first): held if recent enough.
+    const ImuOrientation& newest = samples_.back();
+    if (stamp - newest.stamp > maxGap_) return std::nullopt;
+    ImuOrientation out = newest;
+    out.stamp = stamp;
+    return out;
+  }
+  if (after->stamp == stamp) return *after;
+  if (after == samples_.begin()) return std::nullopt;  // older than what is kept
+  const ImuOrientation& before = *std::prev(after);
+  if (after->stamp - before.stamp > maxGap_ || before.frameId != after->frameId) return std::nullopt;
+  const double ratio = (stamp - before.stamp) / (after->stamp - before.stamp);
+  ImuOrientation out = before;
+  out.stamp = stamp;
+  out.orientation = before.orientation.slerp(ratio, after->orientation);
+  return out;
+}
+
+bool ImuOrientationBuffer::empty() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return samples_.empty();
+}
+
+void ImuOrientationBuffer::clear() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  samples_.clear();
+}
+
+}  // namespace rtabmap_slam_node
