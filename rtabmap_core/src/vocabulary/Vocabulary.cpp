@@ -71,7 +71,10 @@ Vocabulary::Vocabulary(const VocabularyOptions& options) : options_(options) {
   if (!options_.IsValid(&why)) throw std::invalid_argument("Vocabulary: " + why);
 }
 
-Vocabulary::~Vocabulary() = default;
+// A background rebuild owns copies of what it builds from: nothing to stop, only to wait for.
+Vocabulary::~Vocabulary() {
+  if (rebuilt_.valid()) rebuilt_.wait();
+}
 
 void Vocabulary::setLastWordId(int id) {
   if (id < lastWordId_) {
@@ -138,6 +141,7 @@ std::vector<int> Vocabulary::findWords(const cv::Mat& descriptors) const {
 std::vector<int> Vocabulary::quantize(const cv::Mat& descriptors, int locationId) {
   const auto start = std::chrono::steady_clock::now();
   checkDescriptors(descriptors);
+  if (rebuilt_.valid()) adoptRebuiltIndex();
   std::vector<int> ids(descriptors.rows, 0);
   summary_.lastNewWords = summary_.lastMatchedWords = 0;
   if (descriptors.empty()) return ids;
@@ -190,24 +194,67 @@ std::vector<int> Vocabulary::quantize(const cv::Mat& descriptors, int locationId
 // insertions (seen on the simulator's long run: 2 s updates at 48 locations in WM).
 void Vocabulary::indexWords(const std::vector<int>& ids) {
   if (ids.empty()) return;
-  const bool rebuild = !index_->built() || !options_.incrementalFlann ||
-                       (options_.rebalancingFactor > 1.0f &&
-                        index_->points() + ids.size() > options_.rebalancingFactor * index_->builtSize());
-  if (rebuild) {
-    std::vector<int> all;
-    all.reserve(words_.size());
-    for (const auto& [id, w] : words_) all.push_back(id);
-    std::sort(all.begin(), all.end());
-    cv::Mat rows(static_cast<int>(all.size()), descriptorWidth_, descriptorType_);
-    for (size_t i = 0; i < all.size(); ++i) words_.at(all[i]).descriptor.copyTo(rows.row(static_cast<int>(i)));
+  const bool grown = options_.rebalancingFactor > 1.0f &&
+                     index_->points() + ids.size() > options_.rebalancingFactor * index_->builtSize();
+  const bool background = options_.rebuildInBackground && options_.incrementalFlann && index_->built();
+  if (!index_->built() || !options_.incrementalFlann || (grown && !background)) {
+    auto [all, rows] = snapshot();
     index_->rebuild(rows, all);
     ++summary_.indexBuilds;
     summary_.lastBuildSize = static_cast<int>(all.size());
     return;
   }
+  // Meanwhile (and while a background rebuild runs) the index in use takes the new words.
+  if (grown && !rebuilt_.valid()) startBackgroundRebuild();
   cv::Mat rows(static_cast<int>(ids.size()), descriptorWidth_, descriptorType_);
   for (size_t i = 0; i < ids.size(); ++i) words_.at(ids[i]).descriptor.copyTo(rows.row(static_cast<int>(i)));
   index_->add(rows, ids);
+}
+
+std::pair<std::vector<int>, cv::Mat> Vocabulary::snapshot() const {
+  std::vector<int> all;
+  all.reserve(words_.size());
+  for (const auto& [id, w] : words_) all.push_back(id);
+  std::sort(all.begin(), all.end());
+  cv::Mat rows(static_cast<int>(all.size()), descriptorWidth_, descriptorType_);
+  for (size_t i = 0; i < all.size(); ++i) words_.at(all[i]).descriptor.copyTo(rows.row(static_cast<int>(i)));
+  return {std::move(all), std::move(rows)};
+}
+
+void Vocabulary::startBackgroundRebuild() {
+  auto [all, rows] = snapshot();
+  rebuiltIds_ = all;
+  const VocabularyOptions options = options_;
+  const int type = descriptorType_;
+  rebuilt_ = std::async(std::launch::async, [options, type, all = std::move(all), rows = std::move(rows)] {
+    std::unique_ptr<Index> index = Index::create(options, type);
+    index->rebuild(rows, all);
+    return index;
+  });
+}
+
+void Vocabulary::adoptRebuiltIndex() {
+  std::unique_ptr<Index> fresh = rebuilt_.get();  // rethrows what the build threw
+  const std::vector<int> built = std::move(rebuiltIds_);
+  rebuiltIds_.clear();
+  // Words removed since the snapshot leave it; words added since (new or retrieved) join it,
+  // in id order, as the index in use took them.
+  for (int id : built) {
+    if (!words_.count(id)) fresh->remove(id);
+  }
+  std::vector<int> added;
+  for (const auto& [id, w] : words_) {
+    if (!std::binary_search(built.begin(), built.end(), id)) added.push_back(id);
+  }
+  std::sort(added.begin(), added.end());
+  if (!added.empty()) {
+    cv::Mat rows(static_cast<int>(added.size()), descriptorWidth_, descriptorType_);
+    for (size_t i = 0; i < added.size(); ++i) words_.at(added[i]).descriptor.copyTo(rows.row(static_cast<int>(i)));
+    fresh->add(rows, added);
+  }
+  index_ = std::move(fresh);
+  ++summary_.indexBuilds;
+  summary_.lastBuildSize = static_cast<int>(built.size());
 }
 
 // Every update's statistics ask for it: counted from sizes, not by walking the words (a walk of

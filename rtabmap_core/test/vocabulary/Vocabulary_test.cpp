@@ -246,8 +246,16 @@ TEST(Vocabulary, IncrementalBinaryIndexAnswersLikeBruteForce) {
   EXPECT_GE(matched, 100);
 }
 
+// Rebuilt at once (VocabularyOptions::rebuildInBackground false): the build is visible in the
+// very call that triggers it.
+VocabularyOptions rebuiltAtOnce() {
+  VocabularyOptions o;
+  o.rebuildInBackground = false;
+  return o;
+}
+
 TEST(Vocabulary, IndexIsRebuiltWhenTheVocabularyDoubles) {
-  Vocabulary v;
+  Vocabulary v(rebuiltAtOnce());
   v.quantize(randomFloat(100, 256, 1), 1);
   ASSERT_EQ(v.size(), 100u);
   EXPECT_EQ(v.summary().indexBuilds, 1);
@@ -263,7 +271,7 @@ TEST(Vocabulary, IndexIsRebuiltWhenTheVocabularyDoubles) {
 // holds twice the points of its last build, removed ones included, so it never fills up with
 // dead points between builds.
 TEST(Vocabulary, RemovedWordsCountTowardsTheRebuild) {
-  Vocabulary v;
+  Vocabulary v(rebuiltAtOnce());
   cv::Mat first = randomFloat(100, 256, 11);
   auto ids = v.quantize(first, 1);
   ASSERT_EQ(v.summary().indexBuilds, 1);
@@ -280,7 +288,7 @@ TEST(Vocabulary, RemovedWordsCountTowardsTheRebuild) {
 // nodes until it is rebuilt, so between builds the vocabulary's memory follows the points held,
 // not the words; a rebuild gives the removed ones back.
 TEST(Vocabulary, MemoryFollowsTheIndexPointsUntilTheRebuild) {
-  Vocabulary v;
+  Vocabulary v(rebuiltAtOnce());
   const size_t empty = v.memoryUsed();
   auto ids = v.quantize(randomBinary(1000, 32, 31), 1);
   ASSERT_EQ(v.size(), 1000u);
@@ -302,6 +310,64 @@ TEST(Vocabulary, MemoryFollowsTheIndexPointsUntilTheRebuild) {
   const size_t rebuilt = v.memoryUsed();
   EXPECT_LT(rebuilt - empty, 1401u * 2048);
   EXPECT_GE(rebuilt - empty, 1401u * (32 + 256));
+}
+
+// The default rebuild runs on another thread from a snapshot of the words; until the next
+// location's quantize() the index in use answers and takes new words, then the rebuilt one
+// replaces it, with the words removed and added meanwhile (transfer, retrieval) brought in.
+TEST(Vocabulary, BackgroundRebuildIsAdoptedUpToDateByTheNextLocation) {
+  VocabularyOptions o;
+  o.searchChecks = 1 << 30;  // exact: any word missing from the index would show
+  Vocabulary v(o);
+  const auto first = v.quantize(randomBinary(100, 32, 51), 1);
+  ASSERT_EQ(v.summary().indexBuilds, 1);
+  v.quantize(randomBinary(100, 32, 52), 2);
+  const auto third = v.quantize(randomBinary(20, 32, 53), 3);  // 220 > 2 x 100: rebuild started
+  EXPECT_EQ(v.summary().indexBuilds, 1) << "not adopted before the next location";
+  EXPECT_EQ(v.findWords(v.word(third[5])->descriptor)[0], third[5]) << "the index in use took the new words";
+  // Meanwhile: 30 words of the snapshot leave, one comes back, a new one arrives by retrieval.
+  std::vector<VisualWord> out;
+  for (int i = 0; i < 30; ++i) out.push_back(v.removeWord(first[i]));
+  v.addWord(std::move(out[0]));
+  VisualWord retrieved;
+  retrieved.id = 5000;
+  retrieved.descriptor = randomBinary(1, 32, 54);
+  retrieved.references[99] = 1;
+  v.addWord(retrieved);
+  const auto fourth = v.quantize(randomBinary(10, 32, 55), 4);  // adopts the rebuilt index
+  EXPECT_EQ(v.summary().indexBuilds, 2);
+  EXPECT_EQ(v.summary().lastBuildSize, 220) << "the snapshot's words";
+  EXPECT_EQ(v.size(), 220u - 30u + 1u + 1u + 10u);
+  EXPECT_EQ(v.indexPoints(), 220u + 1u + 10u) << "snapshot, the retrieved word, the fourth location's";
+  for (const auto& [id, w] : v.words()) ASSERT_EQ(v.findWords(w.descriptor)[0], id) << "word " << id;
+  for (int i = 1; i < 30; ++i) EXPECT_EQ(v.exactWord(out[i].descriptor), 0);
+  for (int i = 1; i < 30; ++i) EXPECT_NE(v.findWords(out[i].descriptor)[0], first[i]) << "a removed word answered";
+  (void)fourth;
+}
+
+// Background rebuilds keep runs repeatable: the swap happens at the same location every run.
+TEST(Vocabulary, BackgroundRebuildsRepeatRunToRun) {
+  VocabularyOptions o;
+  o.searchChecks = 4;  // approximate: the answers depend on the trees and their history
+  Vocabulary a(o), b(o);
+  for (int loc = 1; loc <= 30; ++loc) {
+    const cv::Mat d = randomBinary(120, 32, 600 + loc);
+    const std::vector<int> wa = a.quantize(d, loc), wb = b.quantize(d, loc);
+    ASSERT_EQ(wa, wb) << "location " << loc;
+    if (loc > 8) {  // a Working Memory of 8 locations: older words leave
+      for (Vocabulary* v : {&a, &b}) {
+        std::multimap<int, int> words;
+        for (const auto& [id, w] : v->words()) {
+          if (w.references.count(loc - 8)) words.emplace(id, 0);
+        }
+        v->removeReferences(loc - 8, words);
+        for (int id : v->unreferencedWords()) v->removeWord(id);
+      }
+    }
+  }
+  EXPECT_GE(a.summary().indexBuilds, 3);
+  EXPECT_EQ(a.summary().indexBuilds, b.summary().indexBuilds);
+  EXPECT_EQ(a.indexPoints(), b.indexPoints());
 }
 
 // memoryUsed() counts the references from a running total (it runs every update): the total must
