@@ -34,6 +34,13 @@ class SoakMetricsTest(unittest.TestCase):
         self.assertAlmostEqual(g["baseline_mb"], 200.0)
         self.assertAlmostEqual(g["max_window_mb"], 215.0)
         self.assertAlmostEqual(g["growth"], 0.075)
+        # The run's last two samples (a partial window) at 260 MB: they join the last full
+        # window, whose median they do not move; alone they would make a +30% "window".
+        tail = samples + [{"robot_s": t, "rss": {"rtabmap": 260.0}} for t in (2700, 2760)]
+        g_tail = m.rss_growth(tail, 1200.0, window_s=300.0)["rtabmap"]
+        self.assertAlmostEqual(g_tail["max_window_mb"], 215.0)
+        self.assertEqual(g_tail["windows"], 5)
+        self.assertAlmostEqual(g_tail["final_mb"], 260.0)
         linear = [{"robot_s": t, "rss": {"rtabmap": 100.0 + 10.0 * t / 3600.0}} for t in range(0, 7200, 60)]
         self.assertAlmostEqual(m.rss_growth(linear, 0.0)["rtabmap"]["slope_mb_per_h"], 10.0)
         checks = dict((n, ok) for n, ok, _ in m.goal_checks({"rss_growth": {"rtabmap": g}}))

@@ -180,8 +180,10 @@ def rss_growth(samples, reference_s, window_s=300.0):
     samples: [{"robot_s": s since the first update, "rss": {name: MB}}]. The baseline is the
     median RSS over the first window after reference_s; growth is the largest median of any
     later window over the baseline, minus one (window medians, so a single sample taken during
-    a transient allocation does not decide). Also the least-squares slope in MB per hour after
-    the reference. {name: {baseline_mb, max_window_mb, final_mb, growth, slope_mb_per_h}}."""
+    a transient allocation does not decide). A window with fewer than half the samples of a
+    full one (the run's last few, after the bag ends) joins the one before it: its median would
+    be of a sample or two. Also the least-squares slope in MB per hour after the reference.
+    {name: {baseline_mb, max_window_mb, final_mb, growth, slope_mb_per_h}}."""
     names = sorted({n for s in samples for n in s["rss"]})
     out = {}
     for name in names:
@@ -192,7 +194,14 @@ def rss_growth(samples, reference_s, window_s=300.0):
         windows = {}
         for t, mb in points:
             windows.setdefault(int((t - reference_s) // window_s), []).append(mb)
-        medians = [float(np.median(windows[k])) for k in sorted(windows)]
+        full = max(len(v) for v in windows.values())
+        merged = []
+        for k in sorted(windows):
+            if merged and len(windows[k]) < 0.5 * full:
+                merged[-1] = merged[-1] + windows[k]
+            else:
+                merged.append(list(windows[k]))
+        medians = [float(np.median(w)) for w in merged]
         baseline = medians[0]
         t = np.array([p[0] for p in points])
         y = np.array([p[1] for p in points])

@@ -206,9 +206,13 @@ void Vocabulary::indexWords(const std::vector<int>& ids) {
   }
   // Meanwhile (and while a background rebuild runs) the index in use takes the new words.
   if (grown && !rebuilt_.valid()) startBackgroundRebuild();
+  index_->add(rowsOf(ids), ids);
+}
+
+cv::Mat Vocabulary::rowsOf(const std::vector<int>& ids) const {
   cv::Mat rows(static_cast<int>(ids.size()), descriptorWidth_, descriptorType_);
   for (size_t i = 0; i < ids.size(); ++i) words_.at(ids[i]).descriptor.copyTo(rows.row(static_cast<int>(i)));
-  index_->add(rows, ids);
+  return rows;
 }
 
 std::pair<std::vector<int>, cv::Mat> Vocabulary::snapshot() const {
@@ -216,8 +220,7 @@ std::pair<std::vector<int>, cv::Mat> Vocabulary::snapshot() const {
   all.reserve(words_.size());
   for (const auto& [id, w] : words_) all.push_back(id);
   std::sort(all.begin(), all.end());
-  cv::Mat rows(static_cast<int>(all.size()), descriptorWidth_, descriptorType_);
-  for (size_t i = 0; i < all.size(); ++i) words_.at(all[i]).descriptor.copyTo(rows.row(static_cast<int>(i)));
+  cv::Mat rows = rowsOf(all);
   return {std::move(all), std::move(rows)};
 }
 
@@ -247,11 +250,7 @@ void Vocabulary::adoptRebuiltIndex() {
     if (!std::binary_search(built.begin(), built.end(), id)) added.push_back(id);
   }
   std::sort(added.begin(), added.end());
-  if (!added.empty()) {
-    cv::Mat rows(static_cast<int>(added.size()), descriptorWidth_, descriptorType_);
-    for (size_t i = 0; i < added.size(); ++i) words_.at(added[i]).descriptor.copyTo(rows.row(static_cast<int>(i)));
-    fresh->add(rows, added);
-  }
+  if (!added.empty()) fresh->add(rowsOf(added), added);
   index_ = std::move(fresh);
   ++summary_.indexBuilds;
   summary_.lastBuildSize = static_cast<int>(built.size());

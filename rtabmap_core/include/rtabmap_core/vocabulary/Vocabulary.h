@@ -135,6 +135,7 @@ class Vocabulary {
  private:
   void checkDescriptors(const cv::Mat& descriptors);
   void indexWords(const std::vector<int>& ids);
+  cv::Mat rowsOf(const std::vector<int>& ids) const;  // the words' descriptors, one row each
   // The current words (sorted ids) and their descriptor rows, for a rebuild.
   std::pair<std::vector<int>, cv::Mat> snapshot() const;
   void startBackgroundRebuild();
