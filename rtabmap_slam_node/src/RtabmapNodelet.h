@@ -263,9 +263,9 @@ class RtabmapNodelet : public nodelet::Nodelet {
   ros::Subscriber goalSub_, goalNodeSub_;
   std::optional<rtabmap::Transform> initialPose_;  // initial_pose
   ros::Subscriber initialPoseSub_;
-  ros::Subscriber imuSub_;
   rtabmap_slam_node::ImuOrientationBuffer imuOrientations_;
   rtabmap_sync::LogThrottle imuWarnings_;  // onImu's own (never called concurrently with itself)
+  ros::Subscriber imuSub_;  // after what onImu uses: shut down before they go
   bool goalPathShown_ = false;  // the last path published was not empty
   std::vector<ros::ServiceServer> services_;
   ros::WallTimer tfTimer_;
