@@ -67,12 +67,6 @@ TEST(GravityLink, SourceIsTheOdometryOrTheImu) {
   EXPECT_FALSE(gravityLinkOf(7, Transform(), imu, true));
 }
 
-LocationInput at(int place, int visit, const Transform& pose) {
-  LocationInput in = test::view(place, visit);
-  in.pose = pose;
-  return in;
-}
-
 MemoryOptions gravityFromOdometry() {
   MemoryOptions o;
   o.stmSize = 1;
@@ -85,7 +79,7 @@ MemoryOptions gravityFromOdometry() {
 
 TEST(GravityLink, EveryLocationWithAPoseGetsItsOwn) {
   Memory m(gravityFromOdometry());
-  for (int p = 1; p <= 3; ++p) m.addLocation(at(p, 0, Transform(p, 0, 0, 0, 0.1 * p, 0)));
+  for (int p = 1; p <= 3; ++p) m.addLocation(test::viewAt(p, 0, Transform(p, 0, 0, 0, 0.1 * p, 0)));
   for (int id = 1; id <= 3; ++id) {
     const Signature* s = m.signature(id);
     ASSERT_NE(s, nullptr);
@@ -97,9 +91,9 @@ TEST(GravityLink, EveryLocationWithAPoseGetsItsOwn) {
   MemoryOptions off = gravityFromOdometry();
   off.useOdomGravity = false;
   Memory n(off);
-  n.addLocation(at(1, 0, Transform(1, 0, 0, 0, 0.1, 0)));
+  n.addLocation(test::viewAt(1, 0, Transform(1, 0, 0, 0, 0.1, 0)));
   EXPECT_FALSE(n.signature(1)->hasLink(1, Link::kGravity)) << "no IMU orientation in the frame";
-  LocationInput withImu = at(2, 0, Transform(2, 0, 0, 0, 0.1, 0));
+  LocationInput withImu = test::viewAt(2, 0, Transform(2, 0, 0, 0, 0.1, 0));
   withImu.data.setIMU(imuOn(Transform(0, 0, 0, 0, 0.05, 0), Transform::Identity()));
   n.addLocation(withImu);
   ASSERT_TRUE(n.signature(2)->hasLink(2, Link::kGravity));
@@ -112,8 +106,8 @@ TEST(GravityLink, RehearsalKeepsOnlyTheKeptLocationsOwn) {
   for (bool newId : {false, true}) {
     o.rehearsalIdUpdatedToNewOne = newId;
     Memory m(o);
-    m.addLocation(at(1, 0, Transform(0, 0, 0, 0, 0.1, 0)));
-    const AddResult r = m.addLocation(at(1, 1, Transform(0.01, 0, 0, 0, 0.1, 0)));  // still: merged
+    m.addLocation(test::viewAt(1, 0, Transform(0, 0, 0, 0, 0.1, 0)));
+    const AddResult r = m.addLocation(test::viewAt(1, 1, Transform(0.01, 0, 0, 0, 0.1, 0)));  // still: merged
     ASSERT_TRUE(r.merged);
     const Signature* kept = m.signature(r.id);
     ASSERT_NE(kept, nullptr);
@@ -128,7 +122,7 @@ TEST(GravityLink, SavedAndRetrievedWithTheLocation) {
   rtabmap::test::TempDir dir;
   db::Database ltm(dir.file("ltm.db"));
   Memory m(gravityFromOdometry(), &ltm);
-  for (int p = 1; p <= 4; ++p) m.addLocation(at(p, 0, Transform(p, 0, 0, 0.02 * p, -0.03, 0)));
+  for (int p = 1; p <= 4; ++p) m.addLocation(test::viewAt(p, 0, Transform(p, 0, 0, 0.02 * p, -0.03, 0)));
   m.transfer({}, 0, 1, false);
   ASSERT_FALSE(m.inRam(1));
   EXPECT_EQ(m.retrieveIds({1}), (std::vector<int>{1}));

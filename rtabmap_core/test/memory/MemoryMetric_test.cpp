@@ -13,11 +13,7 @@ namespace {
 
 using test::view;
 
-LocationInput at(int place, int visit, double x) {
-  LocationInput in = view(place, visit);
-  in.pose = Transform(x, 0, 0, 0, 0, 0);
-  return in;
-}
+LocationInput at(int place, int visit, double x) { return test::viewAt(place, visit, Transform(x, 0, 0, 0, 0, 0)); }
 
 MemoryOptions metric() {
   MemoryOptions o;

@@ -31,4 +31,11 @@ inline LocationInput view(int place, int visit = 0, int words = 100, int common 
   return in;
 }
 
+// A view taken from an odometry pose (metric SLAM).
+inline LocationInput viewAt(int place, int visit, const Transform& pose) {
+  LocationInput in = view(place, visit);
+  in.pose = pose;
+  return in;
+}
+
 }  // namespace rtabmap::memory::test
