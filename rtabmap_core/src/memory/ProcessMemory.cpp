@@ -52,11 +52,12 @@ bool configureAllocator() {
   static const bool applied = [] {
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     if (std::getenv("MALLOC_MMAP_THRESHOLD_") || std::getenv("MALLOC_TRIM_THRESHOLD_") ||
-        (tunables && std::strstr(tunables, "glibc.malloc."))) {
+        std::getenv("MALLOC_ARENA_MAX") || (tunables && std::strstr(tunables, "glibc.malloc."))) {
       return false;  // the user's choice
     }
     return mallopt(M_MMAP_THRESHOLD, static_cast<int>(kMmapThreshold)) == 1 &&
-           mallopt(M_TRIM_THRESHOLD, static_cast<int>(kTrimThreshold)) == 1;
+           mallopt(M_TRIM_THRESHOLD, static_cast<int>(kTrimThreshold)) == 1 &&
+           mallopt(M_ARENA_MAX, kArenaMax) == 1;
   }();
   return applied;
 #else

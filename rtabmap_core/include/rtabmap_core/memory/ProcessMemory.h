@@ -32,10 +32,18 @@ size_t sqliteInUse();
 // threshold to the largest block freed so far, after which such buffers are carved from the heap
 // between long-lived allocations and the heap fragments: what malloc keeps free then grows with
 // the run and malloc_trim cannot return it. The trim threshold is fixed too (glibc raises it with
-// the mmap threshold). Not applied where the user set them (MALLOC_MMAP_THRESHOLD_,
-// MALLOC_TRIM_THRESHOLD_, GLIBC_TUNABLES) nor elsewhere than glibc. Returns whether it applied.
+// the mmap threshold). And the arenas are capped at kArenaMax: glibc gives each thread an arena
+// of its own at its first allocation, up to 8 per core, and a freed block goes back to the arena
+// it came from, where only that arena's threads reuse it; the node's threads (callbacks, the map
+// assembly, the database writer, the ray caster, the vocabulary's rebuild) each keep free space
+// the others cannot use, in pages partly in use that malloc_trim cannot give back. Arenas made
+// before the call stay (the ROS threads started before the nodelet's), and the cap only holds in
+// a process that has not had more than eight yet (glibc then fixes its limit for good): call it
+// at start. Not applied where the user set them (MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_,
+// MALLOC_ARENA_MAX, GLIBC_TUNABLES) nor elsewhere than glibc. Returns whether it applied.
 constexpr size_t kMmapThreshold = 128 * 1024;
 constexpr size_t kTrimThreshold = 4 * 1024 * 1024;
+constexpr int kArenaMax = 2;
 bool configureAllocator();
 
 // Gives the free pages inside the heap back to the system (glibc's malloc_trim). Freed memory
