@@ -35,8 +35,9 @@ size_t sqliteInUse();
 // the mmap threshold). And the arenas are capped at kArenaMax: glibc gives each thread an arena
 // of its own at its first allocation, up to 8 per core, and a freed block goes back to the arena
 // it came from, where only that arena's threads reuse it; the node's threads (callbacks, the map
-// assembly, the database writer, the ray caster, the vocabulary's rebuild) each keep free space
-// the others cannot use, in pages partly in use that malloc_trim cannot give back. Arenas made
+// assembly, the database writer, the ray caster, the vocabulary's rebuild) can each keep free
+// space the others cannot use, in pages partly in use that malloc_trim cannot give back (the
+// soak found most of it in the update's own arena all the same: README, Reliability). Arenas made
 // before the call stay (the ROS threads started before the nodelet's), and the cap only holds in
 // a process that has not had more than eight yet (glibc then fixes its limit for good): call it
 // at start. Not applied where the user set them (MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_,
