@@ -10,6 +10,7 @@
 #include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/memory/GravityLink.h"
+#include "rtabmap_core/memory/LandmarkLinks.h"
 #include "rtabmap_core/vocabulary/Similarity.h"
 
 namespace rtabmap::memory {
@@ -209,6 +210,9 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
   if (std::optional<Link> gravity = gravityLinkOf(id, in.pose, in.data.imu(), options_.useOdomGravity)) {
     fresh.addLink(*gravity);
   }
+  std::vector<std::string> refused;
+  for (const Link& l : landmarkLinksOf(id, in.data.landmarks(), &refused)) fresh.addLink(l);
+  for (const std::string& r : refused) RTABMAP_WARN(r);
 
   // Neighbour link to the previous location (odometry between them, identity without poses).
   // The location the last update left (the kept one after a rehearsal merge), if still in RAM.
@@ -259,6 +263,17 @@ void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) 
   // with it: the kept location has one of its own).
   for (const auto& [to, link] : std::multimap<int, Link>(removed.getLinks())) {
     if (to == removedId) continue;
+    if (link.type() == Link::kLandmark) {
+      // A landmark only the removed location saw stays seen, from the kept one's pose.
+      if (kept.hasLink(to, Link::kLandmark)) continue;
+      Link moved = link;
+      moved.setFrom(kept.id());
+      if (!kept.getPose().isNull() && !removed.getPose().isNull()) {
+        moved.setTransform(kept.getPose().inverse() * removed.getPose() * link.transform());
+      }
+      kept.addLink(moved);
+      continue;
+    }
     Signature* other = signatures_.count(to) ? &signatures_.at(to) : nullptr;
     if (!other) continue;
     Link moved = link;

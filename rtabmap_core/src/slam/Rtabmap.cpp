@@ -56,6 +56,8 @@ std::map<int, Transform> Rtabmap::optimizedPoses() const {
   return newest < 0 ? current : impl_->graph.posesOfGroup(newest);
 }
 
+std::map<int, Transform> Rtabmap::landmarkPoses() const { return impl_->landmarkPoses; }
+
 std::multimap<int, Link> Rtabmap::localLinks() const {
   if (!impl_->detector) return {};
   std::map<int, Transform> all;
@@ -75,7 +77,9 @@ std::multimap<int, Link> Rtabmap::allLinks() const {
   for (int id : workingMemory()) inRam.insert(id);
   std::multimap<int, Link> out;
   for (const auto& [from, link] : links) {
-    if (!inRam.count(link.from()) || !inRam.count(link.to())) out.emplace(from, link);
+    // A landmark is never in RAM: its links are the RAM node's.
+    const bool ramHasIt = inRam.count(link.from()) && (link.to() < 0 || inRam.count(link.to()));
+    if (!ramHasIt) out.emplace(from, link);
   }
   for (const auto& [from, link] : ram) out.emplace(from, link);
   return out;

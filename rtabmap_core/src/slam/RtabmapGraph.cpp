@@ -63,8 +63,10 @@ std::multimap<int, Link> Rtabmap::Impl::ramLinks(const std::map<int, Transform>&
     if (!s) continue;
     for (const auto& [to, link] : s->getLinks()) {
       // Each link once (from its smaller id); both ends must be in the local map. A node's
-      // gravity link is its own (the optimiser uses it with Optimizer/GravitySigma).
-      const bool kept = to == id ? link.type() == Link::kGravity
+      // gravity link is its own (the optimiser uses it with Optimizer/GravitySigma), and so are
+      // its landmark links (the landmark, id < 0, is placed by the optimiser).
+      const bool kept = to == id  ? link.type() == Link::kGravity
+                        : to < 0 ? link.type() == Link::kLandmark
                                  : to > id && poses.count(to) && link.type() != Link::kLandmark;
       if (kept) links.emplace(id, link);
     }
@@ -81,9 +83,11 @@ OptimizerOptions Rtabmap::Impl::incrementalOptions(const std::map<int, Transform
   OptimizerOptions o = optimizer;
   bool large = false;
   for (const Link& l : newLinks) {
+    // A landmark: where the graph had it, against where the new link puts it.
+    const std::map<int, Transform>& ends = l.type() == Link::kLandmark ? landmarkPoses : input;
     auto a = input.find(l.from());
-    auto b = input.find(l.to());
-    if (a == input.end() || b == input.end()) continue;
+    auto b = ends.find(l.to());
+    if (a == input.end() || b == ends.end()) continue;
     const Transform e = l.transform().inverse() * (a->second.inverse() * b->second);
     large = large || e.getNorm() > 0.2 || std::fabs(e.getAngle()) > 0.1;
   }
@@ -103,7 +107,8 @@ std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<L
     if (poses.count(id)) input.emplace(id, poses.at(id));
   }
   for (const auto& [from, link] : links) {
-    if (input.count(link.from()) && input.count(link.to())) inside.emplace(from, link);
+    const bool landmark = link.type() == Link::kLandmark && component.count(link.to());
+    if (input.count(link.from()) && (input.count(link.to()) || landmark)) inside.emplace(from, link);
   }
   // RGBD/OptimizeFromGraphEnd: the robot stays, the map moves; else the oldest node stays and
   // map -> odom absorbs the correction.
@@ -141,14 +146,22 @@ std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<L
     for (const Link& l : newLinks) {
       detector->memory().removeLink(l.from(), l.to(), l.type());
       detector->linksChanged({l.from(), l.to()});
-      graph.unmergeMaps(graph.mapOf(l.from()), graph.mapOf(l.to()));
+      if (l.to() > 0) graph.unmergeMaps(graph.mapOf(l.from()), graph.mapOf(l.to()));  // (a landmark is in no map)
     }
     RTABMAP_WARN("rejected " << newLinks.size() << " new link(s) of node " << newId << ": after optimisation a link is off by "
                              << worst << " standard deviations (" << worstMetres << " m), more than "
                              << Parameters::kRGBDOptimizeMaxError() << " " << options.optimizeMaxError);
     return {};
   }
-  graph.updatePoses(optimised);
+  std::map<int, Transform> nodes;
+  for (const auto& [id, pose] : optimised) {
+    if (id < 0) {
+      landmarkPoses[id] = pose;  // the optimiser's estimate of each landmark of the local map
+    } else {
+      nodes.emplace(id, pose);
+    }
+  }
+  graph.updatePoses(nodes);
   return newLinks;
 }
 

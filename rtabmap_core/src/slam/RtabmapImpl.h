@@ -15,6 +15,7 @@
 #include "OdometryCache.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/features/FeatureDetector.h"
+#include "rtabmap_core/features/MarkerDetector.h"
 #include "rtabmap_core/maps/LocalGridOptions.h"
 #include "rtabmap_core/maps/OccupancyGrid.h"
 #include "rtabmap_core/memory/LoopClosureDetector.h"
@@ -66,6 +67,7 @@ struct Rtabmap::Impl {
   std::unique_ptr<memory::LoopClosureDetector> detector;
   std::unique_ptr<FeatureDetector> wordDetector;  // Kp/ features when odometry's cannot be reused
   bool odomFeaturesCompatible = false;           // Kp/DetectorStrategy == Vis/FeatureType
+  std::unique_ptr<MarkerDetector> markerDetector;  // RGBD/MarkerDetection
   std::unique_ptr<LinkRegistration> registration;
   std::unique_ptr<OccupancyGrid> grid;
   SessionGraph graph;
@@ -100,6 +102,9 @@ struct Rtabmap::Impl {
   // the vote on whether they merged it at the right place.
   std::vector<Link> mergeLinks;
   MergeArbiter mergeArbiter;
+  // Landmarks (RGBD/MarkerDetection or given with the input): where the last optimisation of a
+  // local map that saw them put them, by graph id (< 0), in the current referential.
+  std::map<int, Transform> landmarkPoses;
 
   // --- outputs ---
   Statistics stats;
@@ -155,6 +160,13 @@ struct Rtabmap::Impl {
   // such a link is given in `refusedForJump` when not null.
   std::optional<Link> verifyLoopClosure(int newId, int hypothesisId, bool checkDistance,
                                         std::optional<Link>* refusedForJump = nullptr);
+
+  // RtabmapLandmarks.cpp
+  // The markers of a frame that comes without landmarks (RGBD/MarkerDetection).
+  void detectMarkers(SensorData& data);
+  // The new node's landmark links to landmarks that other nodes in RAM of the current
+  // referential saw too: constraints that close a loop through the landmark.
+  std::vector<Link> landmarkClosures(int newId);
 
   // RtabmapGraph.cpp
   std::map<int, Transform> ramPosesOfGroup() const;

@@ -48,6 +48,7 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
       RTABMAP_WARN("frame " << raw.id() << ": images cannot be uncompressed (" << e.what() << "): no visual words");
     }
   }
+  detectMarkers(data);  // before decimation: the markers' corners need every pixel
   {
     StageTimer t(stats, Statistics::kTimingMemKeypoints_detection);
     extractWords(data, in);

@@ -34,6 +34,9 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
     gridOptions = LocalGridOptions::fromParameters(p);
     grid = std::make_unique<OccupancyGrid>(GlobalGridOptions::fromParameters(p));
   }
+  if (Parameters::getBool(p, Parameters::kRGBDMarkerDetection())) {
+    markerDetector = std::make_unique<MarkerDetector>(MarkerDetectorOptions::fromParameters(p));
+  }
   if (Parameters::getInt(p, Parameters::kKpMaxFeatures()) >= 0) {
     wordDetector = FeatureDetector::create(p, FeatureGroup::kKp);
     odomFeaturesCompatible =
@@ -152,6 +155,7 @@ void Rtabmap::Impl::startNewMap() {
   lastNodeId = 0;
   mergeLinks.clear();
   mergeArbiter.reset();
+  landmarkPoses.clear();  // placed in the previous map's referential
   ++summary.mapsStarted;
   RTABMAP_INFO("new map " << mapId << " (previous " << previous << ")");
 }

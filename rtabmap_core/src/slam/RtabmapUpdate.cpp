@@ -207,6 +207,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     if (options.neighborLinkRefining && !firstOfMap) refineNeighborLink(newId);
   }
   const std::vector<Link> timeLinks = options.metric && !added.merged ? proximityByTime(newId) : std::vector<Link>();
+  const std::vector<Link> landmarkLinks = options.metric && !added.merged ? landmarkClosures(newId) : std::vector<Link>();
 
   // --- loop closure detection, verified by registration in metric SLAM, else by epipolar
   // geometry (VhEp/Enabled) ---
@@ -264,9 +265,10 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
 
   // --- optimisation of the local map, map -> odom ---
   if (options.metric) {
-    if (!newLinks.empty() || !timeLinks.empty() || !u.retrieved.empty()) {
+    if (!newLinks.empty() || !timeLinks.empty() || !landmarkLinks.empty() || !u.retrieved.empty()) {
       const bool onlyAClosure = newLinks.size() == 1 && newLinks.front().type() == Link::kGlobalClosure;
       newLinks.insert(newLinks.end(), timeLinks.begin(), timeLinks.end());
+      newLinks.insert(newLinks.end(), landmarkLinks.begin(), landmarkLinks.end());
       std::vector<Link> kept = optimizeLocalMap(newId, newLinks);
       summary.rejectedLinks += static_cast<int>(newLinks.size() - kept.size());
       if (kept.empty() && onlyAClosure) {
@@ -286,6 +288,9 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
         } else if (l.type() == Link::kLocalTimeClosure) {
           ++summary.timeLinks;
           ++timeKept;
+        } else if (l.type() == Link::kLandmark) {
+          ++summary.landmarkClosures;
+          stats.landmarkId = l.to();
         } else {
           ++summary.proximityLinks;
           stats.proximityDetectionId = l.to();
@@ -453,6 +458,7 @@ void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nod
   stats.addStatistic(Statistics::kLoopLast_id, static_cast<float>(memory.lastLocationId()));
   stats.addStatistic(Statistics::kLoopVisual_words, static_cast<float>(u.words));
   stats.addStatistic(Statistics::kProximitySpace_last_detection_id, static_cast<float>(stats.proximityDetectionId));
+  stats.addStatistic(Statistics::kLoopLandmark_detected, static_cast<float>(stats.landmarkId));
   stats.addStatistic(Statistics::kTimingLikelihood_computation, static_cast<float>(u.likelihoodMs));
   stats.addStatistic(Statistics::kTimingPosterior_computation, static_cast<float>(u.posteriorMs));
   stats.addStatistic(Statistics::kTimingHypotheses_creation, static_cast<float>(u.hypothesisMs));

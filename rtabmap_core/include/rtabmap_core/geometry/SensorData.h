@@ -16,6 +16,7 @@
 #include "rtabmap_core/codec/Compression.h"
 #include "rtabmap_core/geometry/CameraModel.h"
 #include "rtabmap_core/geometry/IMU.h"
+#include "rtabmap_core/geometry/Landmark.h"
 #include "rtabmap_core/geometry/LaserScan.h"
 #include "rtabmap_core/geometry/StereoCameraModel.h"
 #include "rtabmap_core/geometry/Transform.h"
@@ -112,6 +113,10 @@ class SensorData {
   const LocalGrid& localGrid() const { return localGrid_; }
   void setLocalGrid(const LocalGrid& grid) { localGrid_ = grid; }
 
+  // --- landmarks seen by this frame (given with the input, or detected markers) ---
+  const Landmarks& landmarks() const { return landmarks_; }
+  void setLandmarks(const Landmarks& landmarks) { landmarks_ = landmarks; }
+
   // --- features already extracted (by odometry), reused for visual words ---
   const std::vector<cv::KeyPoint>& keypoints() const { return keypoints_; }
   const std::vector<cv::Point3f>& keypoints3D() const { return keypoints3D_; }
@@ -171,6 +176,7 @@ class SensorData {
   Eigen::Matrix<double, 6, 6> odomCovariance_ = Eigen::Matrix<double, 6, 6>::Identity();
   Transform groundTruth_;
   LocalGrid localGrid_;
+  Landmarks landmarks_;
   std::vector<cv::KeyPoint> keypoints_;
   std::vector<cv::Point3f> keypoints3D_;
   cv::Mat descriptors_;

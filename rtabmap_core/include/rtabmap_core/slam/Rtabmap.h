@@ -71,6 +71,7 @@ struct SlamSummary {
   int loopClosures = 0;       // global loop closures linked
   int proximityLinks = 0;     // proximity links by space
   int timeLinks = 0;          // proximity links by time (RGBD/ProximityByTime)
+  int landmarkClosures = 0;   // landmark links to a landmark an older node saw (loops closed through it)
   int rejectedLinks = 0;      // hypotheses whose registration failed + links undone by OptimizeMaxError
   int localizations = 0;      // localization mode: updates localised on the map
   int mapsStarted = 0;        // maps (sessions) started, the first one included
@@ -124,6 +125,9 @@ class Rtabmap {
   // had when they left RAM). Before the first node of a new map, the referential of the
   // database's last node: a new session on an existing database shows the map it continues.
   std::map<int, Transform> optimizedPoses() const;
+  // Landmarks (RGBD/MarkerDetection, or given with the input) where the last optimisation that
+  // included them put them, by graph id (-landmark id), in the current referential.
+  std::map<int, Transform> landmarkPoses() const;
   // Links of the nodes in RAM (each once).
   std::multimap<int, Link> localLinks() const;
   // Every link of the map (database and RAM, each once).

@@ -1,0 +1,64 @@
+// Landmarks in the map (JFR 2019, 3.1): fiducial markers detected in a new node's images, or
+// landmarks given with the input, tie every node that sees them through the landmark's own graph
+// node. Seeing again a landmark an older node saw is a loop closure that needs no appearance
+// match. Not (yet) a link between sessions: a landmark seen from two maps not otherwise merged
+// stays two observations, one in each referential.
+#include "RtabmapImpl.h"
+#include "rtabmap_core/common/Log.h"
+
+namespace rtabmap {
+
+void Rtabmap::Impl::detectMarkers(SensorData& data) {
+  if (!markerDetector || !data.landmarks().empty() || data.imageRaw().empty()) return;
+  StageTimer t(stats, "Timing/Marker_detection/ms");
+  MarkerDetectionInfo info;
+  data.setLandmarks(markerDetector->detect(data, &info));
+  stats.addStatistic("Loop/Markers_detected/", static_cast<float>(data.landmarks().size()));
+  if (info.idZero > 0) {
+    RTABMAP_WARN("frame " << data.id() << ": marker id 0 ignored (a landmark's graph node is -id): use ids from 1");
+  }
+  if (info.withoutLength > 0) {
+    RTABMAP_DEBUG("frame " << data.id() << ": " << info.withoutLength << " marker(s) without a length yet ("
+                           << Parameters::kMarkerLength() << " 0: measured when seen facing the camera with depth)");
+  }
+}
+
+std::vector<Link> Rtabmap::Impl::landmarkClosures(int newId) {
+  std::vector<Link> closures;
+  const memory::Memory& memory = detector->memory();
+  const Signature* fresh = memory.signature(newId);
+  if (!fresh) return closures;
+  std::vector<const Link*> seen;
+  for (const auto& [to, link] : fresh->getLinks()) {
+    if (link.type() == Link::kLandmark) seen.push_back(&link);
+  }
+  if (seen.empty()) return closures;
+  std::vector<int> ram(memory.stm().begin(), memory.stm().end());
+  for (const auto& [id, age] : memory.wm()) {
+    (void)age;
+    ram.push_back(id);
+  }
+  const std::set<int> maps = graph.mapsMergedWith(mapId);
+  const Transform pose = graph.pose(newId);
+  for (const Link* link : seen) {
+    bool closes = false;
+    for (int id : ram) {
+      const Signature* other = id == newId ? nullptr : memory.signature(id);
+      if (other && other->hasLink(link->to(), Link::kLandmark) && !graph.pose(id).isNull() &&
+          maps.count(graph.mapOf(id))) {
+        closes = true;
+        break;
+      }
+    }
+    if (closes) {
+      closures.push_back(*link);
+    } else if (!landmarkPoses.count(link->to()) && !pose.isNull()) {
+      // First sight: where this node puts it, until an optimisation places it (and what tells
+      // the next optimisation how far a closure through it moves the graph).
+      landmarkPoses[link->to()] = pose * link->transform();
+    }
+  }
+  return closures;
+}
+
+}  // namespace rtabmap

@@ -1,0 +1,144 @@
+// Landmarks through the SLAM pipeline (JFR 2019, 3.1): a marker seen when leaving and again
+// when coming back closes the loop with no appearance match; markers are detected from the
+// images with RGBD/MarkerDetection; landmark links are saved with their nodes.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+
+#include "PoseOnlyFrames.h"
+#include "common/MarkerScene.h"
+#include "common/TestData.h"
+#include "rtabmap_core/slam/Rtabmap.h"
+
+namespace rtabmap {
+namespace {
+
+using test::Cov;
+
+constexpr int kSteps = 16;
+const Transform kLandmark(0.0, -1.0, 0.4, -M_PI / 2, 0, 0);  // a marker on a wall right of the start
+
+// The robot's true pose k steps along a circle of radius 2.5 m that starts and ends at the
+// origin heading +x.
+Transform truth(int k) {
+  const double a = 2.0 * M_PI * k / kSteps;
+  return Transform(2.5 * std::sin(a), 2.5 * (1.0 - std::cos(a)), 0, 0, 0, a);
+}
+
+Landmarks seen(int k) {
+  Landmark l;
+  l.id = 7;
+  l.size = 0.2f;
+  l.pose = truth(k).inverse() * kLandmark;
+  l.covariance.setZero();
+  l.covariance.diagonal() << 0.001, 0.001, 0.001, 0.01, 0.01, 0.01;
+  return {{7, l}};
+}
+
+struct Drive {
+  std::map<int, Transform> poses, landmarks;
+  SlamSummary summary;
+  int landmarkIdAtTheEnd = 0;
+};
+
+// Odometry that turns 0.03 rad too far and goes 2% too long each step: back at the start it is
+// off by half a radian and a metre. The marker is seen from the first two and the last two
+// nodes (`withMarkers`).
+Drive drive(bool withMarkers, const std::string& database = "") {
+  Rtabmap slam;
+  slam.init(test::everyFrame(), database);
+  Transform odom = Transform::Identity();
+  Drive run;
+  for (int k = 0; k <= kSteps; ++k) {
+    if (k > 0) {
+      const Transform step = truth(k - 1).inverse() * truth(k);
+      odom = odom * Transform(step.x() * 1.02, step.y() * 1.02, 0, 0, 0, step.yaw() + 0.03);
+    }
+    SensorData frame = test::frame(k + 1, k + 1.0);
+    if (withMarkers && (k <= 1 || k >= kSteps - 1)) frame.setLandmarks(seen(k));
+    EXPECT_TRUE(slam.process(frame, odom, Cov::Identity() * 0.0025)) << slam.lastRejection();
+  }
+  run.poses = slam.optimizedPoses();
+  run.landmarks = slam.landmarkPoses();
+  run.summary = slam.summary();
+  run.landmarkIdAtTheEnd = slam.statistics().landmarkId;
+  return run;
+}
+
+TEST(Landmarks, AMarkerSeenAgainClosesTheLoop) {
+  const Drive odometry = drive(false);
+  const Drive markers = drive(true);
+  const int last = kSteps + 1;
+  const double odometryError = (truth(kSteps).inverse() * odometry.poses.at(last)).getNorm();
+  const double markerError = (truth(kSteps).inverse() * markers.poses.at(last)).getNorm();
+  EXPECT_GT(odometryError, 0.5) << "the drift the loop must remove";
+  EXPECT_LT(markerError, 0.05) << "back where it started, through the marker";
+  // The heading: the marker's orientation (sigma 0.1 rad) against 16 odometry steps (0.05 rad
+  // each, 0.2 for the chain) leaves a fifth of the drift's 0.48 rad where the weights put it.
+  const double odometryTurn = std::fabs((truth(kSteps).inverse() * odometry.poses.at(last)).getAngle());
+  EXPECT_GT(odometryTurn, 0.4);
+  EXPECT_LT(std::fabs((truth(kSteps).inverse() * markers.poses.at(last)).getAngle()), 0.2 * odometryTurn);
+  EXPECT_GE(markers.summary.landmarkClosures, 1);
+  EXPECT_EQ(markers.summary.loopClosures, 0) << "no appearance: the marker alone closed it";
+  EXPECT_EQ(markers.landmarkIdAtTheEnd, -7);
+  ASSERT_TRUE(markers.landmarks.count(-7));
+  EXPECT_LT((kLandmark.inverse() * markers.landmarks.at(-7)).getNorm(), 0.05);
+  EXPECT_EQ(markers.poses.count(-7), 0u) << "optimizedPoses() holds nodes only";
+  EXPECT_TRUE(odometry.landmarks.empty());
+}
+
+TEST(Landmarks, LinksAreSavedWithTheirNodes) {
+  test::TempDir dir("rtabmap_landmarks");
+  const std::string path = dir.file("rtabmap.db");
+  drive(true, path);
+  Rtabmap slam;
+  slam.init({{"Mem/IncrementalMemory", "false"}}, path);
+  int landmarkLinks = 0;
+  for (const auto& [from, link] : slam.allLinks()) {
+    if (link.type() != Link::kLandmark) continue;
+    ++landmarkLinks;
+    EXPECT_EQ(link.to(), -7);
+    EXPECT_NEAR((link.transform().inverse() * seen(link.from() - 1).at(7).pose).getNorm(), 0.0, 1e-5);
+  }
+  EXPECT_EQ(landmarkLinks, 4) << "nodes 1, 2, 16 and 17 saw the marker";
+}
+
+TEST(Landmarks, MarkerDetectionFromTheImages) {
+  // One RGB-D frame of a wall with marker 5, 1.2 m ahead: the node links to landmark -5 where the
+  // marker was drawn, in the base frame.
+  const CameraModel model(525.0, 525.0, 319.5, 239.5, Transform(0, 0, 0.5, 0, 0, 0) * CameraModel::opticalRotation(),
+                          0.0, cv::Size(640, 480));
+  const Transform drawn = test::markerAhead(1.2, 0.3, 0.1);
+  const test::MarkerView view = test::renderMarkers(model, {{5, 0.2f, drawn}}, 0, 2.5f);
+  cv::Mat rgb;
+  cv::cvtColor(view.grey, rgb, cv::COLOR_GRAY2BGR);
+  for (bool enabled : {false, true}) {
+    Rtabmap slam;
+    slam.init({{"Rtabmap/DetectionRate", "0"}, {"RGBD/MarkerDetection", enabled ? "true" : "false"},
+               {"Marker/Length", "0.2"}},
+              "");
+    ASSERT_TRUE(slam.process(SensorData(rgb, view.depth, model, 1, 1.0), Transform::Identity(), Cov::Identity() * 1e-4))
+        << slam.lastRejection();
+    const Link* found = nullptr;
+    const std::multimap<int, Link> links = slam.localLinks();
+    for (const auto& [from, link] : links) {
+      if (link.type() == Link::kLandmark) found = &link;
+    }
+    if (!enabled) {
+      EXPECT_EQ(found, nullptr) << "RGBD/MarkerDetection is off by default";
+      continue;
+    }
+    ASSERT_NE(found, nullptr);
+    EXPECT_EQ(found->from(), 1);
+    EXPECT_EQ(found->to(), -5);
+    const Transform error = found->transform().inverse() * (model.localTransform() * drawn);
+    EXPECT_LT(error.getNorm(), 0.02);
+    EXPECT_LT(std::fabs(error.getAngle()), 0.06);
+    EXPECT_EQ(slam.statistics().data().count("Loop/Markers_detected/"), 1u);
+  }
+}
+
+}  // namespace
+}  // namespace rtabmap
