@@ -141,9 +141,10 @@ OdometryCacheVerdict OdometryCache::verify(const CachedLink& candidate) {
     return v;
   }
   Check c = check(candidate, false);
-  if (!c.ok && candidate.link.type() == Link::kGlobalClosure) {
-    // Appearance against proximity: if the loop closure fits without the cached proximity links,
-    // they were the wrong ones (proximity searches around a belief that may be wrong).
+  if (!c.ok && (candidate.link.type() == Link::kGlobalClosure || candidate.link.type() == Link::kLandmark)) {
+    // Appearance (or a marker, whose id is unambiguous) against proximity: if the loop closure
+    // fits without the cached proximity links, they were the wrong ones (proximity searches
+    // around a belief that may be wrong).
     const Check without = check(candidate, true);
     if (without.ok) {
       dropProximityLinks(&v.proximityDropped);

@@ -15,8 +15,9 @@
 // against the recent ones, so a single wrong match cannot teleport the robot, and map -> odom
 // comes from the optimised pose of the newest frame (smoothed by all the cached links).
 //
-// A loop closure (appearance) that disagrees with cached proximity links is tried again
-// without them; if it then fits, the proximity links were the wrong ones and leave the cache.
+// A loop closure (appearance) or a marker seen again (kLandmark, to the map node that saw it)
+// that disagrees with cached proximity links is tried again without them; if it then fits, the
+// proximity links were the wrong ones and leave the cache.
 #include <deque>
 #include <string>
 #include <vector>

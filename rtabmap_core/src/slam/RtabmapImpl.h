@@ -167,6 +167,9 @@ struct Rtabmap::Impl {
   // The new node's landmark links to landmarks that other nodes in RAM of the current
   // referential saw too: constraints that close a loop through the landmark.
   std::vector<Link> landmarkClosures(int newId);
+  // Localization mode: for each landmark the temporary node sees that a map node in RAM saw
+  // too, a link from the temporary node to the map node that saw it nearest.
+  std::vector<Link> landmarkLocalizations(int tempId) const;
 
   // RtabmapGraph.cpp
   std::map<int, Transform> ramPosesOfGroup() const;

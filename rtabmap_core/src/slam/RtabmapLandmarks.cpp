@@ -61,4 +61,30 @@ std::vector<Link> Rtabmap::Impl::landmarkClosures(int newId) {
   return closures;
 }
 
+// In localization mode a marker the map saw places the robot at once: the temporary node's view
+// of it and the view of the map node that saw it nearest make a link between the two nodes,
+// weighted by both observations' uncertainty, which then goes through the odometry cache like
+// a loop closure.
+std::vector<Link> Rtabmap::Impl::landmarkLocalizations(int tempId) const {
+  std::vector<Link> links;
+  const memory::Memory& memory = detector->memory();
+  const Signature* temp = memory.signature(tempId);
+  if (!temp) return links;
+  const std::map<int, Transform> poses = ramPosesOfGroup();
+  for (const auto& [landmark, seen] : temp->getLinks()) {
+    if (seen.type() != Link::kLandmark) continue;
+    const Link* nearest = nullptr;
+    for (const auto& [id, pose] : poses) {
+      const Signature* s = id == tempId ? nullptr : memory.signature(id);
+      const Link* view = s ? s->link(landmark, Link::kLandmark) : nullptr;
+      if (view && (!nearest || view->transform().getNorm() < nearest->transform().getNorm())) nearest = view;
+    }
+    if (!nearest) continue;
+    const Eigen::Matrix<double, 6, 6> covariance = seen.infMatrix().inverse() + nearest->infMatrix().inverse();
+    links.emplace_back(tempId, nearest->from(), Link::kLandmark, seen.transform() * nearest->transform().inverse(),
+                       informationOf(covariance, false));
+  }
+  return links;
+}
+
 }  // namespace rtabmap

@@ -379,6 +379,7 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
   std::set<int> immune;
   detector->retrieveNeighbors(u.highest.id, u, immune);
   retrieveNearRobot(estimate, u, immune);
+  if (found.empty()) found = landmarkLocalizations(tempId);
   if (found.empty() && options.proximityBySpace) {
     StageTimer t(stats, Statistics::kTimingProximity_by_space);
     // The temporary node is linked to nothing: a graph depth from it would leave no candidate.
@@ -416,6 +417,16 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
     ++summary.localizations;
     if (l.type() == Link::kGlobalClosure) {
       stats.loopClosureId = l.to();
+    } else if (l.type() == Link::kLandmark) {
+      // The marker both nodes saw.
+      const Signature* temp = memory.signature(tempId);
+      const Signature* there = memory.signature(l.to());
+      for (const auto& [to, seen] : temp->getLinks()) {
+        if (seen.type() == Link::kLandmark && to < 0 && there && there->hasLink(to, Link::kLandmark)) {
+          stats.landmarkId = to;
+          break;
+        }
+      }
     } else {
       stats.proximityDetectionId = l.to();
     }

@@ -1,6 +1,7 @@
 // Landmarks through the SLAM pipeline (JFR 2019, 3.1): a marker seen when leaving and again
 // when coming back closes the loop with no appearance match; markers are detected from the
-// images with RGBD/MarkerDetection; landmark links are saved with their nodes.
+// images with RGBD/MarkerDetection; landmark links are saved with their nodes; a later session
+// in localization mode is placed on the map by a marker the map saw.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -103,6 +104,33 @@ TEST(Landmarks, LinksAreSavedWithTheirNodes) {
     EXPECT_NEAR((link.transform().inverse() * seen(link.from() - 1).at(7).pose).getNorm(), 0.0, 1e-5);
   }
   EXPECT_EQ(landmarkLinks, 4) << "nodes 1, 2, 16 and 17 saw the marker";
+}
+
+TEST(Landmarks, LocalizationOnAMarkerTheMapSaw) {
+  // A second session in localization mode starts where the map has the marker, its odometry at
+  // the identity there: no appearance, no scan, only the marker can place it.
+  test::TempDir dir("rtabmap_landmarks_localization");
+  const std::string path = dir.file("rtabmap.db");
+  drive(true, path);
+  for (bool markers : {false, true}) {
+    Rtabmap slam;
+    slam.init({{"Mem/IncrementalMemory", "false"}, {"Rtabmap/DetectionRate", "0"}}, path);
+    int landmarkId = 0;
+    for (int k = kSteps - 2; k <= kSteps; ++k) {
+      SensorData frame = test::frame(100 + k, 100.0 + k);
+      if (markers) frame.setLandmarks(seen(k));
+      slam.process(frame, truth(kSteps - 2).inverse() * truth(k), Cov::Identity() * 0.0025);
+      landmarkId = std::min(landmarkId, slam.statistics().landmarkId);
+    }
+    if (!markers) {
+      EXPECT_EQ(slam.summary().localizations, 0);
+      continue;
+    }
+    EXPECT_GE(slam.summary().localizations, 1) << "the second sighting confirms the first (RGBD/MaxOdomCacheSize)";
+    EXPECT_EQ(landmarkId, -7);
+    // The map itself is good to a few centimetres there (AMarkerSeenAgainClosesTheLoop).
+    EXPECT_LT((truth(kSteps).inverse() * slam.currentPose()).getNorm(), 0.1) << slam.currentPose().prettyPrint();
+  }
 }
 
 TEST(Landmarks, MarkerDetectionFromTheImages) {

@@ -122,21 +122,25 @@ TEST(OdometryCache, AWrongFirstLocalizationLeavesWithItsFrame) {
 }
 
 TEST(OdometryCache, ALoopClosureOutweighsTheProximityLinksItContradicts) {
-  OdometryCache cache(twoD());
-  const Transform lookAlike(0.0, 3.0, 0.0);
-  for (int f = 0; f < 2; ++f) {
-    addFrame(cache, f);
-    ASSERT_TRUE(cache.verify(localization(f, lookAlike)).accepted);
+  // A loop closure, or a marker seen again (kLandmark: to the map node that saw it).
+  for (Link::Type type : {Link::kGlobalClosure, Link::kLandmark}) {
+    SCOPED_TRACE(Link::typeName(type));
+    OdometryCache cache(twoD());
+    const Transform lookAlike(0.0, 3.0, 0.0);
+    for (int f = 0; f < 2; ++f) {
+      addFrame(cache, f);
+      ASSERT_TRUE(cache.verify(localization(f, lookAlike)).accepted);
+    }
+    addFrame(cache, 2);
+    const OdometryCacheVerdict closure = cache.verify(localization(2, Transform::Identity(), type));
+    EXPECT_TRUE(closure.accepted) << closure.why;
+    EXPECT_EQ(closure.proximityDropped, 2);
+    EXPECT_FALSE(closure.confirmed) << "nothing left to confirm it";
+    EXPECT_EQ(cache.links(), 1u);
+    // A proximity link that agrees with it now confirms it.
+    addFrame(cache, 3);
+    EXPECT_TRUE(cache.verify(localization(3)).confirmed);
   }
-  addFrame(cache, 2);
-  const OdometryCacheVerdict closure = cache.verify(localization(2, Transform::Identity(), Link::kGlobalClosure));
-  EXPECT_TRUE(closure.accepted) << closure.why;
-  EXPECT_EQ(closure.proximityDropped, 2);
-  EXPECT_FALSE(closure.confirmed) << "nothing left to confirm it";
-  EXPECT_EQ(cache.links(), 1u);
-  // A proximity link that agrees with it now confirms it.
-  addFrame(cache, 3);
-  EXPECT_TRUE(cache.verify(localization(3)).confirmed);
 }
 
 TEST(OdometryCache, WithoutACacheEveryLocalizationIsAppliedAtOnce) {
