@@ -134,7 +134,10 @@ std::map<int, Transform> optimizeEachComponent(const OptimizerOptions& options,
     for (int id : component) inside.emplace(id, poses.at(id));
     std::multimap<int, Link> insideLinks;
     for (const auto& [from, link] : links) {
-      if (component.count(link.from()) && component.count(link.to())) insideLinks.emplace(from, link);
+      // A landmark's links go with the component of the node that saw it (the optimiser places
+      // the landmark); a landmark does not join components.
+      const bool landmark = link.type() == Link::kLandmark && link.to() < 0 && !poses.count(link.to());
+      if (component.count(link.from()) && (component.count(link.to()) || landmark)) insideLinks.emplace(from, link);
     }
     OptimizerSummary s;
     const std::map<int, Transform> optimised = optimizeGraph(options, inside, insideLinks, &s, *component.begin());

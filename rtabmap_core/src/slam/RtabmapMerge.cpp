@@ -9,6 +9,7 @@ namespace rtabmap {
 
 void Rtabmap::Impl::recordMergeLinks(const std::vector<Link>& kept) {
   for (const Link& l : kept) {
+    if (l.to() < 0) continue;  // a landmark joins no maps (RtabmapLandmarks.cpp)
     const int a = graph.mapOf(l.from()), b = graph.mapOf(l.to());
     if (a == b || (a != mapId && b != mapId)) continue;
     mergeLinks.push_back(l);

@@ -330,6 +330,30 @@ TEST(Optimizer, LandmarksAreCreatedAndReturned) {
   EXPECT_EQ(summary.linksIgnoredByOptions, 3);
 }
 
+TEST(Optimizer, EachComponentUsesItsLandmarksWithoutJoiningThroughThem) {
+  // Component {1, 2, 3}: odometry says node 3 is at x = 2.5, the landmark seen from 1 and 3 at
+  // (5, 2) says x = 2. Component {10, 11}, elsewhere, sees the same landmark id: it stays apart.
+  std::map<int, Transform> input{{1, Transform(0, 0, 0)},   {2, Transform(1.25, 0, 0)}, {3, Transform(2.5, 0, 0)},
+                                 {10, Transform(50, 0, 0)}, {11, Transform(51, 0, 0)}};
+  std::multimap<int, Link> links;
+  const Link::InfMatrix weak = Link::InfMatrix::Identity();
+  links.emplace(1, Link(1, 2, Link::kNeighbor, Transform(1.25, 0, 0), weak));
+  links.emplace(2, Link(2, 3, Link::kNeighbor, Transform(1.25, 0, 0), weak));
+  links.emplace(10, Link(10, 11, Link::kNeighbor, Transform(1, 0, 0), weak));
+  const Link::InfMatrix strong = Link::InfMatrix::Identity() * 1e4;
+  links.emplace(1, Link(1, -1, Link::kLandmark, Transform(5, 2, 0), strong));
+  links.emplace(3, Link(3, -1, Link::kLandmark, Transform(3, 2, 0), strong));
+  links.emplace(10, Link(10, -1, Link::kLandmark, Transform(1, 1, 0), strong));
+  std::vector<std::string> failures;
+  const std::map<int, Transform> out = optimizeEachComponent(options2D(), input, links, &failures);
+  EXPECT_TRUE(failures.empty());
+  ASSERT_EQ(out.size(), input.size()) << "nodes only";
+  EXPECT_NEAR(out.at(1).x(), 0.0, 1e-6) << "the oldest node stays";
+  EXPECT_NEAR(out.at(3).x(), 2.0, 0.01) << "the landmark closed the gap";
+  EXPECT_NEAR(out.at(10).x(), 50.0, 1e-6) << "not moved to the other component's landmark";
+  EXPECT_NEAR(out.at(11).x(), 51.0, 1e-6);
+}
+
 TEST(Optimizer, GravityLinksStraightenRollAndPitch) {
   // A chain whose odometry says it tilts: gravity links say it does not.
   std::map<int, Transform> input;

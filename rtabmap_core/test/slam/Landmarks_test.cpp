@@ -104,6 +104,8 @@ TEST(Landmarks, LinksAreSavedWithTheirNodes) {
     EXPECT_NEAR((link.transform().inverse() * seen(link.from() - 1).at(7).pose).getNorm(), 0.0, 1e-5);
   }
   EXPECT_EQ(landmarkLinks, 4) << "nodes 1, 2, 16 and 17 saw the marker";
+  // The map the database opens with is optimised with them: the loop stays closed.
+  EXPECT_LT((truth(kSteps).inverse() * slam.optimizedPoses().at(kSteps + 1)).getNorm(), 0.05);
 }
 
 TEST(Landmarks, LocalizationOnAMarkerTheMapSaw) {

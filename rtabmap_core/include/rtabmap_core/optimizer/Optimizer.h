@@ -153,6 +153,8 @@ std::map<int, Transform> optimizeGraph(const OptimizerOptions& options,
 // The whole graph of a database (every session): each connected component optimised on its
 // own with its oldest node (smallest id) fixed, so maps joined by links share the oldest one's
 // referential and a map never linked to another keeps its own. Nodes alone keep their pose.
+// Landmark links (to negative ids absent from `poses`) constrain the component of the node that
+// saw the landmark; a landmark does not join components. Only nodes are returned.
 // `failures` (may be null) gets one line per component whose optimisation failed (its poses
 // are then returned as given).
 std::map<int, Transform> optimizeEachComponent(const OptimizerOptions& options,
