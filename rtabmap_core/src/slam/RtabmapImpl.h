@@ -165,7 +165,9 @@ struct Rtabmap::Impl {
   // The markers of a frame that comes without landmarks (RGBD/MarkerDetection).
   void detectMarkers(SensorData& data);
   // The new node's landmark links to landmarks that other nodes in RAM of the current
-  // referential saw too: constraints that close a loop through the landmark.
+  // referential saw too: constraints that close a loop through the landmark. A landmark only
+  // another map's nodes saw (orientation measured by both) gives instead a loop closure to the
+  // one that saw it nearest, which merges the maps (added to memory here).
   std::vector<Link> landmarkClosures(int newId);
   // Localization mode: for each landmark the temporary node sees that a map node in RAM saw
   // too, a link from the temporary node to the map node that saw it nearest.

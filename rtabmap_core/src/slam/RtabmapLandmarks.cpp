@@ -1,8 +1,7 @@
 // Landmarks in the map (JFR 2019, 3.1): fiducial markers detected in a new node's images, or
 // landmarks given with the input, tie every node that sees them through the landmark's own graph
 // node. Seeing again a landmark an older node saw is a loop closure that needs no appearance
-// match. Not (yet) a link between sessions: a landmark seen from two maps not otherwise merged
-// stays two observations, one in each referential.
+// match; seeing one that only another session saw merges the two maps.
 #include "RtabmapImpl.h"
 #include "rtabmap_core/common/Log.h"
 
@@ -23,14 +22,20 @@ void Rtabmap::Impl::detectMarkers(SensorData& data) {
   }
 }
 
+namespace {
+// A landmark link says how the landmark is turned, not only where it is (Marker/VarianceAngular
+// < 9999): one sighting from each of two maps then fixes how the maps sit, not only where.
+bool orientationMeasured(const Link& l) { return l.infMatrix().diagonal().tail<3>().minCoeff() > 1e-3; }
+}  // namespace
+
 std::vector<Link> Rtabmap::Impl::landmarkClosures(int newId) {
   std::vector<Link> closures;
-  const memory::Memory& memory = detector->memory();
+  memory::Memory& memory = detector->memory();
   const Signature* fresh = memory.signature(newId);
   if (!fresh) return closures;
-  std::vector<const Link*> seen;
+  std::vector<Link> seen;
   for (const auto& [to, link] : fresh->getLinks()) {
-    if (link.type() == Link::kLandmark) seen.push_back(&link);
+    if (link.type() == Link::kLandmark) seen.push_back(link);
   }
   if (seen.empty()) return closures;
   std::vector<int> ram(memory.stm().begin(), memory.stm().end());
@@ -38,24 +43,41 @@ std::vector<Link> Rtabmap::Impl::landmarkClosures(int newId) {
     (void)age;
     ram.push_back(id);
   }
-  const std::set<int> maps = graph.mapsMergedWith(mapId);
   const Transform pose = graph.pose(newId);
-  for (const Link* link : seen) {
+  for (const Link& link : seen) {
+    const std::set<int> maps = graph.mapsMergedWith(mapId);  // (a merge below widens it)
     bool closes = false;
+    const Link* elsewhere = nullptr;  // the nearest sighting from a map not merged with this one
     for (int id : ram) {
       const Signature* other = id == newId ? nullptr : memory.signature(id);
-      if (other && other->hasLink(link->to(), Link::kLandmark) && !graph.pose(id).isNull() &&
-          maps.count(graph.mapOf(id))) {
+      const Link* view = other ? other->link(link.to(), Link::kLandmark) : nullptr;
+      if (!view || graph.pose(id).isNull()) continue;
+      if (maps.count(graph.mapOf(id))) {
         closes = true;
         break;
       }
+      if (!elsewhere || view->transform().getNorm() < elsewhere->transform().getNorm()) elsewhere = view;
     }
     if (closes) {
-      closures.push_back(*link);
-    } else if (!landmarkPoses.count(link->to()) && !pose.isNull()) {
+      closures.push_back(link);
+    } else if (elsewhere && orientationMeasured(link) && orientationMeasured(*elsewhere)) {
+      // Another session saw it: a loop closure to the node that saw it nearest joins the maps,
+      // and goes through the merge's vote, its undoing and the database like any other. It
+      // replaces this node's own sighting (which it is made of: kept, it would count twice).
+      const Eigen::Matrix<double, 6, 6> covariance = link.infMatrix().inverse() + elsewhere->infMatrix().inverse();
+      const Link merge(newId, elsewhere->from(), Link::kGlobalClosure, link.transform() * elsewhere->transform().inverse(),
+                       informationOf(covariance, false));
+      memory.removeLink(newId, link.to(), Link::kLandmark);
+      memory.addLink(merge);
+      detector->linksChanged({merge.from(), merge.to()});
+      graph.mergeMaps(graph.mapOf(merge.to()), mapId);
+      closures.push_back(merge);
+      RTABMAP_INFO("node " << newId << " saw landmark " << -link.to() << ", which map " << graph.mapOf(merge.to())
+                           << " saw from node " << merge.to() << ": the maps are merged");
+    } else if (!landmarkPoses.count(link.to()) && !pose.isNull()) {
       // First sight: where this node puts it, until an optimisation places it (and what tells
       // the next optimisation how far a closure through it moves the graph).
-      landmarkPoses[link->to()] = pose * link->transform();
+      landmarkPoses[link.to()] = pose * link.transform();
     }
   }
   return closures;

@@ -238,7 +238,9 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     detector->retrieveNeighbors(u.highest.id, u, immune);
     if (options.metric) retrieveNearRobot(graph.pose(newId), u, immune);
   }
-  if (waitingForClosure && newLinks.empty()) {
+  const bool landmarkMerge = std::any_of(landmarkLinks.begin(), landmarkLinks.end(),
+                                         [](const Link& l) { return l.type() == Link::kGlobalClosure; });
+  if (waitingForClosure && newLinks.empty() && !landmarkMerge) {
     discardFirstNode(newId);
     rejection = "map not started: no loop closure with an earlier map yet (Rtabmap/StartNewMapOnLoopClosure)";
     return false;

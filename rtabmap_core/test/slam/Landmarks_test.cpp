@@ -1,7 +1,7 @@
 // Landmarks through the SLAM pipeline (JFR 2019, 3.1): a marker seen when leaving and again
 // when coming back closes the loop with no appearance match; markers are detected from the
 // images with RGBD/MarkerDetection; landmark links are saved with their nodes; a later session
-// in localization mode is placed on the map by a marker the map saw.
+// is placed on the map by a marker the map saw, in localization mode and by a merge in mapping.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -132,6 +132,38 @@ TEST(Landmarks, LocalizationOnAMarkerTheMapSaw) {
     EXPECT_EQ(landmarkId, -7);
     // The map itself is good to a few centimetres there (AMarkerSeenAgainClosesTheLoop).
     EXPECT_LT((truth(kSteps).inverse() * slam.currentPose()).getNorm(), 0.1) << slam.currentPose().prettyPrint();
+  }
+}
+
+TEST(Landmarks, AMarkerAnotherSessionSawMergesTheMaps) {
+  // Session 1 maps the circle (the marker seen at its start and end). Session 2 starts on the far
+  // side, its odometry at the identity there, and drives back to the start: its first sight of
+  // the marker puts it in session 1's referential.
+  for (bool markers : {false, true}) {
+    SCOPED_TRACE(markers ? "with the marker" : "without");
+    test::TempDir dir("rtabmap_landmarks_sessions");
+    const std::string path = dir.file("rtabmap.db");
+    drive(true, path);
+    Rtabmap slam;
+    slam.init(test::everyFrame(), path);
+    const int start = kSteps / 2;
+    for (int k = start; k <= kSteps; ++k) {
+      SensorData frame = test::frame(100 + k, 100.0 + k);
+      if (markers && k >= kSteps - 1) frame.setLandmarks(seen(k));
+      EXPECT_TRUE(slam.process(frame, truth(start).inverse() * truth(k), Cov::Identity() * 0.0025)) << slam.lastRejection();
+    }
+    const std::map<int, Transform> poses = slam.optimizedPoses();
+    const int last = slam.lastNodeId();
+    if (!markers) {
+      EXPECT_EQ(poses.count(1), 0u) << "the first session's map is another referential";
+      continue;
+    }
+    ASSERT_EQ(poses.count(1), 1u) << "merged: one referential";
+    EXPECT_GE(slam.summary().loopClosures, 1) << "the merge is a loop closure to the node that saw the marker";
+    // Session 2's last node is back at the start, where session 1's map (good to a few cm) has it.
+    EXPECT_LT((truth(kSteps).inverse() * poses.at(last)).getNorm(), 0.1) << poses.at(last).prettyPrint();
+    EXPECT_LT((truth(start).inverse() * poses.at(last - (kSteps - start))).getNorm(), 0.15)
+        << "session 2's first node, placed through its odometry";
   }
 }
 
