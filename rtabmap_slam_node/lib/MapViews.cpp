@@ -109,6 +109,8 @@ std::string graphMarkerNamespace(rtabmap::Link::Type type) {
     case rtabmap::Link::kVirtualClosure:
     case rtabmap::Link::kTemporary:
       return "user";
+    case rtabmap::Link::kLandmark:
+      return "landmark";
     default:
       return "";
   }
@@ -123,14 +125,19 @@ visualization_msgs::MarkerArray graphMarkers(const std::map<int, rtabmap::Transf
   visualization_msgs::Marker nodes = marker(header, "nodes", 0, visualization_msgs::Marker::SPHERE_LIST);
   nodes.scale.x = nodes.scale.y = nodes.scale.z = 0.05;
   nodes.color = colour(0.0f, 1.0f, 0.0f);
-  for (const auto& [id, pose] : poses) nodes.points.push_back(pointMsg(pose));
-  out.markers.push_back(nodes);
+  visualization_msgs::Marker landmarks = marker(header, "landmarks", 0, visualization_msgs::Marker::CUBE_LIST);
+  landmarks.scale.x = landmarks.scale.y = landmarks.scale.z = 0.1;
+  landmarks.color = colour(1.0f, 0.5f, 0.0f);
+  for (const auto& [id, pose] : poses) (id < 0 ? landmarks : nodes).points.push_back(pointMsg(pose));
+  if (!nodes.points.empty()) out.markers.push_back(nodes);
+  if (!landmarks.points.empty()) out.markers.push_back(landmarks);
 
   const std::vector<std::pair<std::string, std_msgs::ColorRGBA>> kinds = {
       {"neighbor", colour(0.0f, 0.0f, 1.0f)},
       {"loop_closure", colour(1.0f, 0.0f, 0.0f)},
       {"proximity", colour(1.0f, 1.0f, 0.0f)},
-      {"user", colour(0.0f, 1.0f, 1.0f)}};
+      {"user", colour(0.0f, 1.0f, 1.0f)},
+      {"landmark", colour(1.0f, 0.0f, 1.0f)}};
   for (size_t k = 0; k < kinds.size(); ++k) {
     visualization_msgs::Marker lines = marker(header, kinds[k].first, 0, visualization_msgs::Marker::LINE_LIST);
     lines.scale.x = 0.02;  // line width (m)

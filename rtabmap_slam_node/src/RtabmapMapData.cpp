@@ -19,7 +19,12 @@ void RtabmapNodelet::publishMarkers(const ros::Time& stamp, bool force) {
   const std::map<int, rtabmap::Transform> poses = core_->optimizedPoses();
   const std_msgs::Header header = mapHeader(stamp);
   if (labels) labelsPub_.publish(rtabmap_slam_node::labelMarkers(core_->labels(), poses, header));
-  if (graph) graphMarkersPub_.publish(rtabmap_slam_node::graphMarkers(poses, core_->allLinks(), header));
+  if (graph) {
+    std::map<int, rtabmap::Transform> withLandmarks = poses;
+    const std::map<int, rtabmap::Transform> landmarks = core_->landmarkPoses();
+    withLandmarks.insert(landmarks.begin(), landmarks.end());
+    graphMarkersPub_.publish(rtabmap_slam_node::graphMarkers(withLandmarks, core_->allLinks(), header));
+  }
 }
 
 void RtabmapNodelet::publishLatestNodeData(const ros::Time& stamp) {

@@ -319,8 +319,12 @@ void RtabmapNodelet::publishUpdate(const ros::Time& stamp) {
     infoPub_.publish(info);
   }
   if (mapGraphPub_.getNumSubscribers() > 0) {
-    mapGraphPub_.publish(rtabmap_conversions::mapGraphToMsg(core_->optimizedPoses(), core_->allLinks(),
-                                                            core_->mapCorrection(), header));
+    // The landmarks (markers, RGBD/MarkerDetection) with the nodes, by their negative ids, as the
+    // original's mapGraph has them: rviz draws them where the links to them end.
+    std::map<int, rtabmap::Transform> poses = core_->optimizedPoses();
+    const std::map<int, rtabmap::Transform> landmarks = core_->landmarkPoses();
+    poses.insert(landmarks.begin(), landmarks.end());
+    mapGraphPub_.publish(rtabmap_conversions::mapGraphToMsg(poses, core_->allLinks(), core_->mapCorrection(), header));
   }
   if (gridMapPub_.getNumSubscribers() > 0) publishGrid(stamp);
   publishGoalStatus(stamp);

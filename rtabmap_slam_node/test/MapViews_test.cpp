@@ -60,7 +60,10 @@ TEST(MapViews, GraphLinksAreDrawnOneListPerKind) {
   links.emplace(3, Link(3, 1, Link::kGlobalClosure, Transform(-2, 0, 0, 0, 0, 0)));
   links.emplace(3, Link(3, 9, Link::kLocalSpaceClosure, Transform::Identity()));  // 9 has no pose
   links.emplace(1, Link(1, 1, Link::kPosePrior, Transform::Identity()));
-  const auto a = graphMarkers(poses, links, mapHeader());
+  links.emplace(2, Link(2, -4, Link::kLandmark, Transform(0.5, 1, 0, 0, 0, 0)));
+  std::map<int, Transform> withLandmark = poses;
+  withLandmark.emplace(-4, Transform(1.5, 1, 0, 0, 0, 0));
+  const auto a = graphMarkers(withLandmark, links, mapHeader());
   EXPECT_EQ(a.markers.front().action, visualization_msgs::Marker::DELETEALL);
   const auto* nodes = find(a, "nodes");
   ASSERT_NE(nodes, nullptr);
@@ -77,6 +80,14 @@ TEST(MapViews, GraphLinksAreDrawnOneListPerKind) {
   EXPECT_DOUBLE_EQ(loops->points[1].x, 0.0);
   EXPECT_NE(loops->color.r, neighbours->color.r) << "kinds have their own colour";
   EXPECT_EQ(find(a, "proximity"), nullptr) << "a link to a node without a pose is not drawn";
+  const auto* landmarks = find(a, "landmarks");
+  ASSERT_NE(landmarks, nullptr);
+  EXPECT_EQ(landmarks->type, visualization_msgs::Marker::CUBE_LIST);
+  ASSERT_EQ(landmarks->points.size(), 1u) << "the landmark, not among the nodes";
+  EXPECT_DOUBLE_EQ(landmarks->points[0].x, 1.5);
+  const auto* seen = find(a, "landmark");
+  ASSERT_NE(seen, nullptr);
+  EXPECT_EQ(seen->points.size(), 2u);
   EXPECT_EQ(graphMarkerNamespace(Link::kPosePrior), "");
   EXPECT_EQ(graphMarkerNamespace(Link::kLocalTimeClosure), "proximity");
 }

@@ -31,14 +31,16 @@ visualization_msgs::MarkerArray labelMarkers(const std::map<int, std::string>& l
                                              const std_msgs::Header& header);
 
 // The pose graph for rviz's MarkerArray display, after a DELETEALL: the nodes as one
-// SPHERE_LIST (namespace "nodes") and the links between nodes with poses as one LINE_LIST per
-// kind, each its colour, so a kind can be toggled in rviz: "neighbor" (odometry, also merged
-// neighbours; blue), "loop_closure" (global loop closures; red), "proximity" (in space or time;
-// yellow), "user" (user and virtual links; cyan). Empty kinds have no marker.
+// SPHERE_LIST (namespace "nodes"), the landmarks (negative ids: markers) as one CUBE_LIST
+// ("landmarks", orange), and the links between ends with poses as one LINE_LIST per kind, each
+// its colour, so a kind can be toggled in rviz: "neighbor" (odometry, also merged neighbours;
+// blue), "loop_closure" (global loop closures; red), "proximity" (in space or time; yellow),
+// "user" (user and virtual links; cyan), "landmark" (a node to a landmark it saw; magenta).
+// Empty kinds have no marker.
 visualization_msgs::MarkerArray graphMarkers(const std::map<int, rtabmap::Transform>& poses,
                                              const std::multimap<int, rtabmap::Link>& links,
                                              const std_msgs::Header& header);
-// The namespace a link type is drawn in ("" = not drawn: pose priors, gravity, landmarks).
+// The namespace a link type is drawn in ("" = not drawn: pose priors, gravity).
 std::string graphMarkerNamespace(rtabmap::Link::Type type);
 
 // Nodes within `radius` (3D distance; <= 0: any distance) of `center`, nearest first, the k
