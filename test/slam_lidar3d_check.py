@@ -4,7 +4,9 @@ VLP-16 with the wheel guess (few lost frames, ATE well below the wheel odometry'
 rtabmap node on the same clouds builds a graph that closes the loop by proximity, an occupancy
 grid from the 3D local grids, and map -> icp_odom in tf. An IMU filter's orientation on
 /imu/data (published here, level, from an IMU mounted upside down on the base) gives each node
-a level gravity link."""
+a level gravity link. A landmark detector's output (published here on landmark_detection from the
+ground truth: a marker 1.5 m ahead of the start, seen within 3 m) gives the nodes near the start,
+at the tour's beginning and end, landmark links to it, and mapGraph its pose."""
 import math
 import os
 import subprocess
@@ -20,7 +22,7 @@ from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import OccupancyGrid, Odometry
 from sensor_msgs.msg import Imu
 
-from rtabmap_ros.msg import Info, MapGraph
+from rtabmap_ros.msg import Info, LandmarkDetection, MapGraph
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import odom_common as common  # noqa: E402  (bag conversion and playing, ATE)
@@ -40,6 +42,9 @@ class SlamLidar3dTest(unittest.TestCase):
         rospy.Subscriber("/rtabmap/info", Info, self.info.append, queue_size=100)
         rospy.Subscriber("/rtabmap/mapGraph", MapGraph, self.graphs.append, queue_size=10)
         rospy.Subscriber("/rtabmap/grid_map", OccupancyGrid, self.grids.append, queue_size=10)
+        self.landmark, self.detections = None, 0
+        self.landmark_pub = rospy.Publisher("/rtabmap/landmark_detection", LandmarkDetection, queue_size=100)
+        rospy.Subscriber("/ground_truth", Odometry, self.publish_landmark, queue_size=1000)
         rospy.Subscriber("/ground_truth", Odometry, by_stamp(self.truth), queue_size=1000)
         rospy.Subscriber("/odom", Odometry, by_stamp(self.wheel), queue_size=1000)
         self.tf_buffer = tf2_ros.Buffer(rospy.Duration(600.0))
@@ -77,6 +82,28 @@ class SlamLidar3dTest(unittest.TestCase):
                 pub.publish(m)
                 last = now
             time.sleep(0.005)
+
+    def publish_landmark(self, truth):
+        """Landmark 3, fixed 1.5 m ahead of where the robot starts (0.5 m up, turned as the robot
+        started), as a detector on the robot would see it: its pose in base_link at the stamp of
+        each ground-truth pose within 3 m of it, covariance left to Marker/Variance*."""
+        p, q = truth.pose.pose.position, truth.pose.pose.orientation
+        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        if self.landmark is None:
+            self.landmark = (p.x + 1.5 * math.cos(yaw), p.y + 1.5 * math.sin(yaw), yaw)
+        lx, ly, lyaw = self.landmark
+        dx, dy = lx - p.x, ly - p.y
+        if math.hypot(dx, dy) > 3.0:
+            return
+        d = LandmarkDetection()
+        d.header.stamp, d.header.frame_id = truth.header.stamp, "base_link"
+        d.id, d.size = 3, 0.2
+        d.pose.pose.position.x = math.cos(yaw) * dx + math.sin(yaw) * dy
+        d.pose.pose.position.y = -math.sin(yaw) * dx + math.cos(yaw) * dy
+        d.pose.pose.position.z = 0.5
+        d.pose.pose.orientation.z, d.pose.pose.orientation.w = math.sin(0.5 * (lyaw - yaw)), math.cos(0.5 * (lyaw - yaw))
+        self.landmark_pub.publish(d)
+        self.detections += 1
 
     def test_lidar3d_slam_on_simulated_loop(self):
         bag = self.make_bag()
@@ -137,6 +164,13 @@ class SlamLidar3dTest(unittest.TestCase):
         for node, q in gravity.items():
             tilt = 2.0 * math.asin(min(1.0, math.hypot(q.x, q.y)))  # angle of the up axis from vertical
             self.assertLess(tilt, 1e-3, f"node {node}'s gravity link is tilted {tilt:.3f} rad (imu_link not applied?)")
+        # Landmark 3 (type 8 links, node -3 in mapGraph): seen when leaving and again when back.
+        seen = sorted(l.fromId for l in graph.links if l.type == 8 and l.toId == -3)
+        rospy.loginfo("landmark 3: %d detections published, seen from %d nodes (%s)", self.detections, len(seen), seen)
+        self.assertGreater(self.detections, 0, "no ground truth near the start to publish landmark detections from")
+        self.assertGreaterEqual(len(seen), 2, "landmark_detection did not reach the nodes")
+        self.assertIn(-3, ids, "mapGraph has no pose for the landmark")
+        self.assertGreater(seen[-1] - seen[0], 20, "seen at the tour's start only, not again at its end")
         # The optimised nodes against the ground truth at their stamps.
         stamps = {i.refId: i.header.stamp.to_nsec() for i in self.info}
         slam, truth = [], []

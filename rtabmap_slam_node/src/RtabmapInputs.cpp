@@ -3,11 +3,15 @@
 // and/or laser scan placed on the robot through tf). Interface: RtabmapNodelet.h.
 #include "RtabmapNodelet.h"
 
+#include <algorithm>
+
 #include "rtabmap_conversions/ImuConversions.h"
+#include "rtabmap_conversions/LandmarkConversions.h"
 #include "rtabmap_conversions/OdometryConversions.h"
 #include "rtabmap_conversions/RGBDImageConversions.h"
 #include "rtabmap_conversions/TfLookup.h"
 #include "rtabmap_slam_node/OdomSensorSync.h"
+#include "rtabmap_odom/PrivateParameters.h"
 #include "rtabmap_sync/FrameAssembly.h"
 
 namespace rtabmap_ros {
@@ -156,6 +160,53 @@ void RtabmapNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros:
   if (warnings_.due("imu attach")) {
     NODELET_WARN("%s: frame at %.6f has no gravity reference: %s.", getName().c_str(), stamp.toSec(), why.c_str());
   }
+}
+
+void RtabmapNodelet::onLandmarkDetection(const rtabmap_ros::LandmarkDetectionConstPtr& msg) {
+  addLandmarkDetection(*msg);
+}
+
+void RtabmapNodelet::onLandmarkDetections(const rtabmap_ros::LandmarkDetectionsConstPtr& msg) {
+  for (const rtabmap_ros::LandmarkDetection& d : msg->landmarks) addLandmarkDetection(d);
+}
+
+void RtabmapNodelet::addLandmarkDetection(const rtabmap_ros::LandmarkDetection& msg) {
+  std::string why;
+  // Without mutex_ (parameters_ may change meanwhile): a detection without covariance gets the
+  // node's Marker/Variance* when a frame takes it.
+  const std::optional<rtabmap::Landmark> l = rtabmap_conversions::landmarkFromMsg(msg, 1.0, 1.0, &why);
+  if (!l) {
+    std::lock_guard<std::mutex> lock(landmarkWarningsMutex_);
+    if (landmarkWarnings_.due(rtabmap_odom::throttleKey(why))) {
+      NODELET_WARN("%s: landmark detection ignored: %s.", getName().c_str(), why.c_str());
+    }
+    return;
+  }
+  const bool noCovariance = std::all_of(msg.pose.covariance.begin(), msg.pose.covariance.end(),
+                                        [](double v) { return v == 0.0; });
+  landmarkDetections_.add({msg.header.stamp.toSec(), msg.header.frame_id, *l, noCovariance});
+}
+
+void RtabmapNodelet::attachLandmarks(rtabmap::SensorData& frame, const ros::Time& stamp) {
+  if (landmarkDetections_.size() == 0) return;
+  const auto poseOf = [&](const std::string& frameId, double detected, std::string* why) {
+    // The camera on the robot when it saw the landmark, moved by the odometry to the frame's stamp.
+    const ros::Time at(detected);
+    const rtabmap::Transform local = sensorPose(frameId, at, why);
+    if (local.isNull()) return local;
+    return rtabmap_slam_node::odomSyncedLocalTransform(*tfBuffer_, odomFrameId_, frameId_, local, stamp, at,
+                                                       waitForTransform_, why);
+  };
+  Eigen::Matrix<double, 6, 6> markers = Eigen::Matrix<double, 6, 6>::Zero();
+  const double linear = rtabmap::Parameters::getFloat(parameters_, rtabmap::Parameters::kMarkerVarianceLinear());
+  const double angular = rtabmap::Parameters::getFloat(parameters_, rtabmap::Parameters::kMarkerVarianceAngular());
+  markers.diagonal() << linear, linear, linear, angular, angular, angular;
+  std::vector<std::string> problems;
+  const rtabmap::Landmarks seen = landmarkDetections_.take(stamp.toSec(), poseOf, markers, &problems);
+  for (const std::string& p : problems) {
+    if (warnings_.due(rtabmap_odom::throttleKey(p))) NODELET_WARN("%s: %s.", getName().c_str(), p.c_str());
+  }
+  if (!seen.empty()) frame.setLandmarks(seen);
 }
 
 void RtabmapNodelet::onInitialPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg) {

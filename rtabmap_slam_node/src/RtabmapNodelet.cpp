@@ -194,6 +194,8 @@ void RtabmapNodelet::advertise(ros::NodeHandle& nh) {
   goalNodeSub_ = nh.subscribe("goal_node", 1, &RtabmapNodelet::onGoalNode, this);
   initialPoseSub_ = nh.subscribe("initialpose", 1, &RtabmapNodelet::onInitialPose, this);
   imuSub_ = nh.subscribe("imu", 100, &RtabmapNodelet::onImu, this);
+  landmarkSub_ = nh.subscribe("landmark_detection", 10, &RtabmapNodelet::onLandmarkDetection, this);
+  landmarksSub_ = nh.subscribe("landmark_detections", 10, &RtabmapNodelet::onLandmarkDetections, this);
   services_.push_back(nh.advertiseService("set_goal", &RtabmapNodelet::onSetGoal, this));
   services_.push_back(nh.advertiseService("cancel_goal", &RtabmapNodelet::onCancelGoal, this));
   services_.push_back(nh.advertiseService("get_plan", &RtabmapNodelet::onGetPlan, this));
@@ -260,6 +262,7 @@ void RtabmapNodelet::onData(const rtabmap_sync::SyncedData& d) {
     clockJumpsSeen_ = d.clockJumps;
     previousOdomCovariance_.reset();
     imuOrientations_.clear();
+    landmarkDetections_.clear();
     core_->clockJumpedBack();
   }
   std::string error;
@@ -267,7 +270,10 @@ void RtabmapNodelet::onData(const rtabmap_sync::SyncedData& d) {
   rtabmap_slam_node::Covariance6 covariance;
   std::optional<rtabmap::SensorData> frame;
   if (odometryOf(d, &odomPose, &covariance, &error)) frame = makeFrame(d, &error);
-  if (frame) attachImuOrientation(*frame, d.stamp);
+  if (frame) {
+    attachImuOrientation(*frame, d.stamp);
+    attachLandmarks(*frame, d.stamp);
+  }
   if (!frame) {
     if (warnings_.due(rtabmap_odom::throttleKey(error))) {
       NODELET_WARN("%s: %s; data at %.6f ignored.", getName().c_str(), error.c_str(), d.stamp.toSec());

@@ -39,7 +39,11 @@
 //   mapping mode once the map has nodes); imu (sensor_msgs/Imu with an orientation, e.g.
 //   imu_filter_madgwick's; samples without one are ignored): each frame takes the orientation
 //   at its stamp, placed on the robot by tf, and its node a gravity link from it
-//   (Optimizer/GravitySigma > 0 uses them; Mem/UseOdomGravity takes the odometry's instead).
+//   (Optimizer/GravitySigma > 0 uses them; Mem/UseOdomGravity takes the odometry's instead);
+//   landmark_detection / landmark_detections (rtabmap_ros/LandmarkDetection(s): another node's
+//   fiducial or object detections, pose in the camera's frame): the next frame mapped takes
+//   those up to 1 s old, placed on the robot by tf at their stamp and moved by the odometry
+//   since, as landmarks of its node (RGBD/MarkerDetection is then not run on that frame).
 // Topics out: info (rtabmap_ros/Info), mapGraph (rtabmap_ros/MapGraph), grid_map
 //   (nav_msgs/OccupancyGrid, latched, computed only when subscribed), localization_pose
 //   (geometry_msgs/PoseWithCovarianceStamped, localization mode), tf map -> odom;
@@ -108,6 +112,8 @@
 #include <rtabmap_ros/GetNodeData.h>
 #include <rtabmap_ros/GetNodesInRadius.h>
 #include <rtabmap_ros/GetPlan.h>
+#include <rtabmap_ros/LandmarkDetection.h>
+#include <rtabmap_ros/LandmarkDetections.h>
 #include <rtabmap_ros/Goal.h>
 #include <rtabmap_ros/ListLabels.h>
 #include <rtabmap_ros/LoadDatabase.h>
@@ -130,6 +136,7 @@
 #include "MapsPublisher.h"
 #include "rtabmap_core/slam/Rtabmap.h"
 #include "rtabmap_slam_node/ImuOrientationBuffer.h"
+#include "rtabmap_slam_node/LandmarkBuffer.h"
 #include "rtabmap_slam_node/SlamNodeSupport.h"
 #include "rtabmap_sync/DataSubscriber.h"
 #include "rtabmap_sync/LogThrottle.h"
@@ -207,6 +214,12 @@ class RtabmapNodelet : public nodelet::Nodelet {
   // hold it for a while); a frame gets the one at its stamp, if any (mutex_ held).
   void onImu(const sensor_msgs::ImuConstPtr& msg);
   void attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp);
+  // Landmark detections of another node (RtabmapInputs.cpp): kept without taking mutex_; the
+  // next frame gets them in its base frame (mutex_ held).
+  void onLandmarkDetection(const rtabmap_ros::LandmarkDetectionConstPtr& msg);
+  void onLandmarkDetections(const rtabmap_ros::LandmarkDetectionsConstPtr& msg);
+  void addLandmarkDetection(const rtabmap_ros::LandmarkDetection& msg);
+  void attachLandmarks(rtabmap::SensorData& frame, const ros::Time& stamp);
 
   // Map views and map data (RtabmapMapData.cpp).
   void publishMarkers(const ros::Time& stamp, bool force = false);
@@ -266,6 +279,10 @@ class RtabmapNodelet : public nodelet::Nodelet {
   rtabmap_slam_node::ImuOrientationBuffer imuOrientations_;
   rtabmap_sync::LogThrottle imuWarnings_;  // onImu's own (never called concurrently with itself)
   ros::Subscriber imuSub_;  // after what onImu uses: shut down before they go
+  rtabmap_slam_node::LandmarkBuffer landmarkDetections_;
+  rtabmap_sync::LogThrottle landmarkWarnings_;  // the landmark callbacks' own
+  std::mutex landmarkWarningsMutex_;              // (the two topics' callbacks may run at once)
+  ros::Subscriber landmarkSub_, landmarksSub_;    // after what their callbacks use
   bool goalPathShown_ = false;  // the last path published was not empty
   std::vector<ros::ServiceServer> services_;
   ros::WallTimer tfTimer_;

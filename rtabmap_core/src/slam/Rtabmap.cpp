@@ -111,6 +111,7 @@ void Rtabmap::clockJumpedBack() {
   m.lastUpdateStamp = -1.0;
   m.odometryCache.clear();
   m.cacheMotion.setZero();
+  m.carriedLandmarks.clear();  // in odometry that starts over
   if (m.options.incremental && m.lastNodeId != 0) {
     RTABMAP_WARN("the clock went back (a restarted bag or simulator): starting a new map");
     m.newMapPending = true;

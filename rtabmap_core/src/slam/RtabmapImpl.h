@@ -105,6 +105,10 @@ struct Rtabmap::Impl {
   // Landmarks (RGBD/MarkerDetection or given with the input): where the last optimisation of a
   // local map that saw them put them, by graph id (< 0), in the current referential.
   std::map<int, Transform> landmarkPoses;
+  // Landmarks of input frames skipped by the rate (Rtabmap/DetectionRate) or the speed limit,
+  // by id, their poses in the odometry frame: the next frame that makes an update takes them
+  // (a detector's output is rarer than frames and must not fall between updates).
+  Landmarks carriedLandmarks;
 
   // --- outputs ---
   Statistics stats;
@@ -164,6 +168,9 @@ struct Rtabmap::Impl {
   // RtabmapLandmarks.cpp
   // The markers of a frame that comes without landmarks (RGBD/MarkerDetection).
   void detectMarkers(SensorData& data);
+  void carryLandmarks(const SensorData& skipped, const Transform& odom);
+  // The carried landmarks the frame at `odom` does not see itself, in its base frame.
+  void takeCarriedLandmarks(SensorData& data, const Transform& odom);
   // The new node's landmark links to landmarks that other nodes in RAM of the current
   // referential saw too: constraints that close a loop through the landmark. A landmark only
   // another map's nodes saw (orientation measured by both) gives instead a loop closure to the

@@ -22,6 +22,30 @@ void Rtabmap::Impl::detectMarkers(SensorData& data) {
   }
 }
 
+void Rtabmap::Impl::carryLandmarks(const SensorData& skipped, const Transform& odom) {
+  if (odom.isNull()) return;
+  for (const auto& [id, l] : skipped.landmarks()) {
+    Landmark inOdom = l;
+    inOdom.pose = odom * l.pose;
+    carriedLandmarks[id] = inOdom;  // the newest sighting
+  }
+}
+
+void Rtabmap::Impl::takeCarriedLandmarks(SensorData& data, const Transform& odom) {
+  if (carriedLandmarks.empty()) return;
+  if (!odom.isNull()) {
+    Landmarks all = data.landmarks();
+    for (const auto& [id, l] : carriedLandmarks) {
+      if (all.count(id)) continue;  // seen again by this frame
+      Landmark here = l;
+      here.pose = odom.inverse() * l.pose;
+      all[id] = here;
+    }
+    data.setLandmarks(all);
+  }
+  carriedLandmarks.clear();
+}
+
 namespace {
 // A landmark link says how the landmark is turned, not only where it is (Marker/VarianceAngular
 // < 9999): one sighting from each of two maps then fixes how the maps sit, not only where.

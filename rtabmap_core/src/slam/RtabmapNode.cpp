@@ -49,6 +49,7 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
     }
   }
   detectMarkers(data);  // before decimation: the markers' corners need every pixel
+  takeCarriedLandmarks(data, odom);
   {
     StageTimer t(stats, Statistics::kTimingMemKeypoints_detection);
     extractWords(data, in);

@@ -156,6 +156,7 @@ void Rtabmap::Impl::startNewMap() {
   mergeLinks.clear();
   mergeArbiter.reset();
   landmarkPoses.clear();  // placed in the previous map's referential
+  carriedLandmarks.clear();  // in the previous odometry's frame
   ++summary.mapsStarted;
   RTABMAP_INFO("new map " << mapId << " (previous " << previous << ")");
 }

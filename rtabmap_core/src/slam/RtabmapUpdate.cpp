@@ -101,6 +101,7 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
   motionCovariance += covariance;
   if (!newMapPending && rateLimited(data.stamp())) {
     ++summary.skippedRate;
+    carryLandmarks(data, odom);
     lastOdom = odom;
     if (data.stamp() > 0.0) lastStamp = data.stamp();
     return false;
@@ -108,6 +109,7 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
   if (!newMapPending && tooFast(odom, data.stamp())) {
     // The next frame is tried at once (the rate's clock did not restart).
     ++summary.skippedSpeed;
+    carryLandmarks(data, odom);
     lastOdom = odom;
     lastStamp = data.stamp();
     return false;

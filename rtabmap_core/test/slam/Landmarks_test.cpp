@@ -167,6 +167,32 @@ TEST(Landmarks, AMarkerAnotherSessionSawMergesTheMaps) {
   }
 }
 
+TEST(Landmarks, ALandmarkOfAFrameSkippedByTheRateGoesToTheNextNode) {
+  // Frames at 2 Hz, nodes at 1 Hz: the detector's one sighting came with a frame in between.
+  Rtabmap slam;
+  slam.init({{"Rtabmap/DetectionRate", "1"}}, "");
+  for (int i = 0; i <= 4; ++i) {
+    SensorData frame = test::frame(i + 1, 1.0 + 0.5 * i);
+    if (i == 1) {
+      Landmark l = seen(0).at(7);
+      l.pose = Transform(2.0, 0.3, 0.4, 0, 0, 0);
+      frame.setLandmarks({{7, l}});
+    }
+    slam.process(frame, Transform(0.5 * i, 0, 0, 0, 0, 0), Cov::Identity() * 1e-4);
+  }
+  EXPECT_EQ(slam.summary().skippedRate, 2);
+  int links = 0;
+  for (const auto& [from, link] : slam.localLinks()) {
+    if (link.type() != Link::kLandmark) continue;
+    ++links;
+    // Seen from 0.5 m, kept by the node at 1.0 m (frame 3, the next update): 1.5 m ahead of it.
+    EXPECT_NEAR(link.transform().x(), 1.5, 1e-9);
+    EXPECT_NEAR(link.transform().y(), 0.3, 1e-9);
+    EXPECT_EQ(link.to(), -7);
+  }
+  EXPECT_EQ(links, 1) << "given once to the next node, not again";
+}
+
 TEST(Landmarks, MarkerDetectionFromTheImages) {
   // One RGB-D frame of a wall with marker 5, 1.2 m ahead: the node links to landmark -5 where the
   // marker was drawn, in the base frame.
