@@ -50,6 +50,14 @@ namespace {
 // A landmark link says how the landmark is turned, not only where it is (Marker/VarianceAngular
 // < 9999): one sighting from each of two maps then fixes how the maps sit, not only where.
 bool orientationMeasured(const Link& l) { return l.infMatrix().diagonal().tail<3>().minCoeff() > 1e-3; }
+
+// Node `seen.from()` to the node that made `other`, both sightings of one landmark: the
+// transform through the landmark, weighted by both sightings' uncertainty (covariances summed).
+Link throughLandmark(const Link& seen, const Link& other, Link::Type type) {
+  const Eigen::Matrix<double, 6, 6> covariance = seen.infMatrix().inverse() + other.infMatrix().inverse();
+  return Link(seen.from(), other.from(), type, seen.transform() * other.transform().inverse(),
+              informationOf(covariance, false));
+}
 }  // namespace
 
 std::vector<Link> Rtabmap::Impl::landmarkClosures(int newId) {
@@ -88,9 +96,7 @@ std::vector<Link> Rtabmap::Impl::landmarkClosures(int newId) {
       // Another session saw it: a loop closure to the node that saw it nearest joins the maps,
       // and goes through the merge's vote, its undoing and the database like any other. It
       // replaces this node's own sighting (which it is made of: kept, it would count twice).
-      const Eigen::Matrix<double, 6, 6> covariance = link.infMatrix().inverse() + elsewhere->infMatrix().inverse();
-      const Link merge(newId, elsewhere->from(), Link::kGlobalClosure, link.transform() * elsewhere->transform().inverse(),
-                       informationOf(covariance, false));
+      const Link merge = throughLandmark(link, *elsewhere, Link::kGlobalClosure);
       memory.removeLink(newId, link.to(), Link::kLandmark);
       memory.addLink(merge);
       detector->linksChanged({merge.from(), merge.to()});
@@ -126,9 +132,7 @@ std::vector<Link> Rtabmap::Impl::landmarkLocalizations(int tempId) const {
       if (view && (!nearest || view->transform().getNorm() < nearest->transform().getNorm())) nearest = view;
     }
     if (!nearest) continue;
-    const Eigen::Matrix<double, 6, 6> covariance = seen.infMatrix().inverse() + nearest->infMatrix().inverse();
-    links.emplace_back(tempId, nearest->from(), Link::kLandmark, seen.transform() * nearest->transform().inverse(),
-                       informationOf(covariance, false));
+    links.push_back(throughLandmark(seen, *nearest, Link::kLandmark));
   }
   return links;
 }
