@@ -54,8 +54,8 @@ void sortUnique(std::vector<int64_t>& v) {
 
 NodeCells::NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells,
                      float cellSize)
-    : obstacles(obstacleCells, cellSize), free(freeCells, cellSize) {
-  cells = obstacles.count() + free.count();
+    : sets(std::make_shared<const Sets>(Sets{CellSet(obstacleCells, cellSize), CellSet(freeCells, cellSize)})) {
+  cells = sets->obstacles.count() + sets->free.count();
   bool first = true;
   for (const auto* cells : {&obstacleCells, &freeCells}) {
     for (const cv::Point3f& p : *cells) {
@@ -68,6 +68,26 @@ NodeCells::NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::v
       radius = std::max(radius, std::sqrt(p.x * p.x + p.y * p.y));
     }
   }
+}
+
+const CellSet NodeCells::kNoCells;
+
+TileSet::TileSet(const std::vector<int64_t>& sortedKeys) {
+  std::vector<Run> runs;
+  for (int64_t key : sortedKeys) {
+    const int col = tileCol(key), row = tileRow(key);
+    if (runs.empty() || runs.back().row != row || runs.back().col + runs.back().length != col) {
+      runs.push_back(Run{row, col, 0});
+    }
+    ++runs.back().length;
+  }
+  runs_.assign(runs.begin(), runs.end());  // exactly their bytes: kept for every node of the map
+}
+
+std::vector<int64_t> TileSet::keys() const {
+  std::vector<int64_t> out;
+  forEach([&](int64_t k) { out.push_back(k); });
+  return out;
 }
 
 void CellBox::unite(const CellBox& b) {
@@ -115,7 +135,7 @@ std::vector<int64_t> GridStorage::tilesAt(const NodeCells& n, const Transform& p
   std::vector<int64_t> tiles;
   int cols[kChunk], rows[kChunk];
   int64_t last = std::numeric_limits<int64_t>::min();
-  for (const CellSet* set : {&n.obstacles, &n.free}) {
+  for (const CellSet* set : {&n.obstacles(), &n.free()}) {
     set->forEachBatch([&](const float* x, const float* y, const float* z, int m) {
       proj.project(x, y, z, m, cols, rows);
       for (int k = 0; k < m; ++k) {
@@ -217,7 +237,7 @@ long GridStorage::apply(const NodeCells& n, const Transform& pose, bool masked, 
     return false;
   };
   // Obstacles first, so a cell this node saw occupied is not also freed by it.
-  for (const auto& [set, delta] : {std::pair<const CellSet*, int>{&n.obstacles, hit_}, {&n.free, miss_}}) {
+  for (const auto& [set, delta] : {std::pair<const CellSet*, int>{&n.obstacles(), hit_}, {&n.free(), miss_}}) {
     set->forEachBatch([&, delta = delta](const float* x, const float* y, const float* z, int m) {
       proj.project(x, y, z, m, cols, rows);
       for (int k = 0; k < m; ++k) {

@@ -10,6 +10,7 @@
 
 #include <climits>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "Cells.h"
@@ -50,35 +51,80 @@ struct CellBox {
 // World tile key of a world cell.
 // UBSan fix (make test-asan): shifting a negative row left is undefined before C++20; shift
 // its unsigned two's-complement image instead (same key bits).
-inline int64_t tileKey(int col, int row) {
-  return static_cast<int64_t>(static_cast<uint64_t>(static_cast<int64_t>(row >> kTileShift)) << 32) ^
-         static_cast<int64_t>(static_cast<uint32_t>(col >> kTileShift));
+inline int64_t tileKeyOfTile(int tileCol, int tileRow) {
+  return static_cast<int64_t>(static_cast<uint64_t>(static_cast<int64_t>(tileRow)) << 32) ^
+         static_cast<int64_t>(static_cast<uint32_t>(tileCol));
 }
+inline int64_t tileKey(int col, int row) { return tileKeyOfTile(col >> kTileShift, row >> kTileShift); }
 inline int tileCol(int64_t key) { return static_cast<int32_t>(static_cast<uint32_t>(key & 0xffffffff)); }
 inline int tileRow(int64_t key) { return static_cast<int32_t>(key >> 32); }
 
 // A node's cells in its base frame (compact, see Cells.h): obstacles are applied first, then
 // free cells (ground, and the empty cells of a 2D grid). An evicted node (out of the Working
 // Memory) keeps only what deciding a re-assembly needs: its bounds, radius and cell count; its
-// cells come back through the grid's loader when a re-assembly applies it.
+// cells come back through the grid's loader when a re-assembly applies it. The cell sets live
+// behind one pointer so that an evicted node, kept for every node of the map, costs a few tens of
+// bytes and not the two sets' empty shells.
 struct NodeCells {
-  CellSet obstacles, free;
+  struct Sets {
+    CellSet obstacles, free;
+  };
+  std::shared_ptr<const Sets> sets;  // null: evicted (or no cells given)
   cv::Point3f lo{0, 0, 0}, hi{0, 0, 0};
   float radius = 0.0f;  // farthest cell from the node's origin, in the plane
-  size_t cells = 0;     // obstacles.count() + free.count(), kept when evicted
-  bool evicted = false;
+  size_t cells = 0;     // obstacles + free cells, kept when evicted
   uint32_t layerKey = kInWorkingMemory;  // see kGateClosed
 
   NodeCells() = default;
   NodeCells(const std::vector<cv::Point3f>& obstacleCells, const std::vector<cv::Point3f>& freeCells,
             float cellSize);
   size_t count() const { return cells; }
-  size_t bytes() const { return sizeof(NodeCells) + obstacles.bytes() + free.bytes(); }
-  void evict() {
-    obstacles = CellSet();
-    free = CellSet();
-    evicted = true;
+  bool evicted() const { return !sets; }
+  const CellSet& obstacles() const { return sets ? sets->obstacles : kNoCells; }
+  const CellSet& free() const { return sets ? sets->free : kNoCells; }
+  size_t bytes() const {
+    return sizeof(NodeCells) + (sets ? sizeof(Sets) + sets->obstacles.bytes() + sets->free.bytes() : 0);
   }
+  void evict() { sets.reset(); }
+
+ private:
+  static const CellSet kNoCells;
+};
+
+// The world tiles a node's cells fall in at the pose it is assembled at, kept for every node of
+// the map (Long-Term Memory included) to tell which nodes a re-assembled tile needs: runs of
+// consecutive tiles along a row, 12 bytes a run, where a node's cells cover a few rows of tiles
+// each with several consecutive ones (8 bytes a tile as a list of keys).
+class TileSet {
+ public:
+  TileSet() = default;
+  explicit TileSet(const std::vector<int64_t>& sortedKeys);  // sorted as int64_t, no duplicates
+
+  // f(key) for every tile, in the order of the keys given.
+  template <class F>
+  void forEach(F&& f) const {
+    for (const Run& r : runs_) {
+      for (int32_t k = 0; k < r.length; ++k) f(tileKeyOfTile(r.col + k, r.row));
+    }
+  }
+  template <class P>
+  bool any(P&& p) const {
+    for (const Run& r : runs_) {
+      for (int32_t k = 0; k < r.length; ++k) {
+        if (p(tileKeyOfTile(r.col + k, r.row))) return true;
+      }
+    }
+    return false;
+  }
+  std::vector<int64_t> keys() const;
+  size_t runs() const { return runs_.size(); }
+  size_t bytes() const { return runs_.capacity() * sizeof(Run); }
+
+ private:
+  struct Run {
+    int32_t row, col, length;  // tile coordinates of the first tile
+  };
+  std::vector<Run> runs_;
 };
 
 class GridStorage {

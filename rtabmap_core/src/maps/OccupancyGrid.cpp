@@ -108,7 +108,7 @@ class OccupancyGrid::Impl {
   std::map<int, NodeCells> cache;
   std::set<int> replaced;
   std::map<int, Transform> assembled;            // node -> pose it is assembled at
-  std::map<int, std::vector<int64_t>> tilesOf;   // node -> world tiles its cells fall in there
+  std::map<int, maps_detail::TileSet> tilesOf;  // node -> world tiles its cells fall in there
   GridStorage storage;
   double nsFull = kPriorNsPerUnit, nsRegion = kPriorNsPerUnit, nsLoad = kPriorNsPerLoadedCell;
   int fullRuns = 0, regionRuns = 0, loadRuns = 0;
@@ -149,10 +149,10 @@ class OccupancyGrid::Impl {
     if (c == cache.end() || c->second.layerKey == maps_detail::kInWorkingMemory) return;
     auto t = tilesOf.find(id);
     if (t != tilesOf.end()) {
-      for (int64_t k : t->second) {
+      t->second.forEach([&](int64_t k) {
         auto l = layers.find(k);
         if (l != layers.end() && c->second.layerKey < l->second.capture) layers.erase(l);
-      }
+      });
     }
     c->second.layerKey = maps_detail::kInWorkingMemory;
   }
@@ -231,14 +231,14 @@ class OccupancyGrid::Impl {
       std::vector<int> toLoad;
       size_t j = i;
       for (; j < ids.size(); ++j) {
-        if (!cache.at(ids[j]).evicted || recent.count(ids[j])) continue;
+        if (!cache.at(ids[j]).evicted() || recent.count(ids[j])) continue;
         if (toLoad.size() == kLoadBatch) break;
         toLoad.push_back(ids[j]);
       }
       std::map<int, NodeCells> loaded = load(toLoad, s);
       for (; i < j; ++i) {
         const NodeCells& n = cache.at(ids[i]);
-        if (!n.evicted) {
+        if (!n.evicted()) {
           f(ids[i], n);
         } else if (const NodeCells* r = recentCells(ids[i])) {
           f(ids[i], *r);
@@ -260,7 +260,7 @@ class OccupancyGrid::Impl {
     double cells = 0.0;
     for (int id : ids) {
       const NodeCells& n = cache.at(id);
-      if (n.evicted && !recent.count(id)) cells += double(n.count());
+      if (n.evicted() && !recent.count(id)) cells += double(n.count());
     }
     return cells;
   }
@@ -366,7 +366,7 @@ void OccupancyGrid::Impl::appendNodes(const std::vector<int>& ids, const std::ma
   withCells(ids, s, [&](int id, const NodeCells& n) {
     const Transform& pose = poses.at(id);
     s.cellUpdates += storage.apply(n, pose, false, &tiles);
-    tilesOf[id] = tiles;
+    tilesOf[id] = maps_detail::TileSet(tiles);
     storage.addFootprint(pose, o.footprintRadius, +1);
     assembled.emplace_hint(assembled.end(), id, pose);
   });
@@ -434,7 +434,7 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     withCells(ids, s, [&](int id, const NodeCells& n) {
       const Transform& pose = ch.target.at(id);
       updates += storage.apply(n, pose, false, &tiles);
-      tilesOf[id] = tiles;
+      tilesOf[id] = maps_detail::TileSet(tiles);
       storage.addFootprint(pose, o.footprintRadius, +1);
     });
   };
@@ -478,7 +478,7 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
       if (appendedSet.count(id)) continue;
       const auto t = tilesOf.find(id);
       if (retiled.count(id) || t == tilesOf.end() ||
-          std::any_of(t->second.begin(), t->second.end(), [&, id = id](int64_t k) { return writesIn(id, k); })) {
+          t->second.any([&, id = id](int64_t k) { return writesIn(id, k); })) {
         fullReplay.push_back(id);
         fullCells += double(cache.at(id).count());
       }
@@ -491,7 +491,7 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
     Path path = Path::kFull;
     std::vector<int> replay;
     int regionInLayers = 0;
-    std::map<int, std::vector<int64_t>> newTiles;
+    std::map<int, maps_detail::TileSet> newTiles;
     const double fullLoadCells = evictedCells(fullReplay) + evictedCells(appended);
     double regionLoadCells = 0.0;
     const bool forcedPath = forced == Path::kFull || forced == Path::kRegion;
@@ -508,23 +508,24 @@ GridUpdateSummary OccupancyGrid::Impl::update(const std::map<int, Transform>& po
       storage.ensureCovers(need);
       storage.clearDirty();
       for (const std::vector<int>* ids : std::array<const std::vector<int>*, 2>{&ch.removed, &ch.moved}) {
-        for (int id : *ids) for (int64_t t : tilesOf.at(id)) storage.markDirty(t);
+        for (int id : *ids) tilesOf.at(id).forEach([&](int64_t t) { storage.markDirty(t); });
       }
       double regionUnits = 0.0;
       const std::vector<int> retiledIds(retiled.begin(), retiled.end());
       regionLoadCells += evictedCells(retiledIds);
       withCells(retiledIds, s, [&](int id, const NodeCells& n) {
-        newTiles[id] = storage.tilesAt(n, ch.target.at(id));
-        for (int64_t t : newTiles[id]) storage.markDirty(t);
+        const std::vector<int64_t> tiles = storage.tilesAt(n, ch.target.at(id));
+        for (int64_t t : tiles) storage.markDirty(t);
+        newTiles[id] = maps_detail::TileSet(tiles);
         regionUnits += double(n.count());  // the tile pass
       });
       for (const auto& [id, pose] : ch.target) {
         if (appendedSet.count(id)) continue;
-        const std::vector<int64_t>& t = newTiles.count(id) ? newTiles.at(id) : tilesOf.at(id);
-        if (std::any_of(t.begin(), t.end(), [&, id = id](int64_t k) { return storage.isDirty(k) && writesIn(id, k); })) {
+        const maps_detail::TileSet& t = newTiles.count(id) ? newTiles.at(id) : tilesOf.at(id);
+        if (t.any([&, id = id](int64_t k) { return storage.isDirty(k) && writesIn(id, k); })) {
           replay.push_back(id);
           regionUnits += double(cache.at(id).count());
-        } else if (std::any_of(t.begin(), t.end(), [&](int64_t k) { return storage.isDirty(k); })) {
+        } else if (t.any([&](int64_t k) { return storage.isDirty(k); })) {
           ++regionInLayers;  // in the region, but in the layers of all its tiles there
         }
       }
@@ -615,7 +616,7 @@ long OccupancyGrid::Impl::reassembleDirtyTiles(const std::vector<int>& replay, c
     const uint32_t key = cache.at(id).layerKey;
     const bool open = everyTileDirty && (noLayerRestored || key >= capture);
     updates += storage.apply(n, target.at(id), !open, &tiles, key);
-    if (retiled.count(id)) tilesOf[id] = tiles;  // every dirty tile is open to it: all of its tiles
+    if (retiled.count(id)) tilesOf[id] = maps_detail::TileSet(tiles);  // every dirty tile is open to it: all of its tiles
   };
   const int notLoaded = s.nodesNotLoaded;
   withCells(intoLayers, s, [&](int id, const NodeCells& n) {
@@ -656,7 +657,7 @@ bool OccupancyGrid::addLocalGrid(int nodeId, const LocalGrid& grid, std::string*
   if (impl_->assembled.count(nodeId)) impl_->replaced.insert(nodeId);
   impl_->leaveLayers(nodeId);
   auto [it, inserted] = impl_->cache.try_emplace(nodeId);
-  if (inserted || it->second.evicted) ++impl_->resident;
+  if (inserted || it->second.evicted()) ++impl_->resident;
   it->second = std::move(*n);
   impl_->forgetRecent(nodeId);
   return true;
@@ -667,7 +668,7 @@ void OccupancyGrid::removeLocalGrid(int nodeId) {
   auto it = impl_->cache.find(nodeId);
   if (it == impl_->cache.end()) return;
   impl_->leaveLayers(nodeId);
-  if (!it->second.evicted) --impl_->resident;
+  if (!it->second.evicted()) --impl_->resident;
   impl_->cache.erase(it);
   impl_->forgetRecent(nodeId);
 }
@@ -679,12 +680,8 @@ bool OccupancyGrid::evictLocalGrid(int nodeId) {
   auto it = impl_->cache.find(nodeId);
   if (it == impl_->cache.end() || !impl_->loader) return false;
   NodeCells& n = it->second;
-  if (!n.evicted) {
-    NodeCells cells = std::move(n);  // among the recent ones until others push it out
-    n.lo = cells.lo;
-    n.hi = cells.hi;
-    n.radius = cells.radius;
-    n.cells = cells.cells;
+  if (!n.evicted()) {
+    NodeCells cells = n;  // shares the cells, among the recent ones until others push them out
     n.evict();
     --impl_->resident;
     impl_->remember(nodeId, std::move(cells));
@@ -714,7 +711,7 @@ size_t OccupancyGrid::memoryUsed() const {
   size_t bytes = impl_->storage.bytes() + impl_->recentBytes + impl_->recent.size() * 48 +
                  impl_->layers.size() * (maps_detail::kTileCells * sizeof(int16_t) + 64);
   for (const auto& [id, n] : impl_->cache) bytes += n.bytes();
-  for (const auto& [id, t] : impl_->tilesOf) bytes += t.size() * sizeof(int64_t) + sizeof(Transform) + 64;
+  for (const auto& [id, t] : impl_->tilesOf) bytes += t.bytes() + sizeof(Transform) + 64;
   return bytes;
 }
 

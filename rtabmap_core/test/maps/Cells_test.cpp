@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "../../src/maps/Cells.h"
+#include "../../src/maps/GridStorage.h"
 #include "maps/MapsTestUtil.h"
 #include "rtabmap_core/maps/Cloud.h"
 #include "rtabmap_core/maps/LocalGridStages.h"
@@ -133,4 +134,35 @@ TEST(Cells, TheGlobalGridCachesAScanNodeInAFewKilobytes) {
   EXPECT_LT(double(before) / double(cells), 1.0);
   grid.update(poses);
   EXPECT_EQ(grid.assembledPoses().size(), 20u);
+}
+
+// The world tiles the global grid keeps for every node (maps_detail::TileSet): runs along a row
+// give back exactly the keys they were made of, in the same order, across the signs of the tile
+// coordinates (the key's column is unsigned: -1 sorts after 0 and does not extend its run).
+TEST(Cells, TileRunsGiveBackTheSameTileKeys) {
+  using maps_detail::tileKeyOfTile;
+  std::vector<int64_t> keys;
+  for (int row : {-3, -1, 0, 2}) {
+    for (int col = -4; col <= 3; ++col) {
+      if (col == 1 && row == 0) continue;  // a gap: two runs in that row
+      keys.push_back(tileKeyOfTile(col, row));
+    }
+  }
+  keys.push_back(tileKeyOfTile(40, 7));  // a lone tile
+  std::sort(keys.begin(), keys.end());
+  const maps_detail::TileSet set(keys);
+  EXPECT_EQ(set.keys(), keys);
+  // Per row: the non-negative columns, then the negative ones; row 0 has one more for its gap.
+  EXPECT_EQ(set.runs(), 4u * 2u + 1u + 1u);
+  EXPECT_LT(set.bytes(), keys.size() * sizeof(int64_t) / 2);
+  for (int64_t k : keys) {
+    EXPECT_EQ(maps_detail::tileKey(maps_detail::tileCol(k) * maps_detail::kTile, maps_detail::tileRow(k) * maps_detail::kTile), k);
+  }
+
+  int asked = 0;
+  EXPECT_TRUE(set.any([&](int64_t k) { ++asked; return k == keys[5]; }));
+  EXPECT_EQ(asked, 6) << "any() stops at the first tile it accepts";
+  EXPECT_FALSE(set.any([](int64_t k) { return k == maps_detail::tileKeyOfTile(1, 0); }));
+  EXPECT_TRUE(maps_detail::TileSet().keys().empty());
+  EXPECT_TRUE(maps_detail::TileSet(std::vector<int64_t>{}).keys().empty());
 }

@@ -537,6 +537,39 @@ TEST(OccupancyGrid, EvictedNodesAreReadBackByReassembliesAndTheMapIsUnchanged) {
   }
 }
 
+// What the map keeps of a node in the Long-Term Memory (its cells evicted): bounds, cell count,
+// layer key and the tiles it was applied to (runs along rows), in about what one empty cell set
+// would cost (it kept two of them before, and its tiles as a list of keys: 374 bytes here). The
+// second lap drives over the first one's cells, so the storage's area stays the same and the
+// difference is the 40 evicted nodes' bookkeeping.
+TEST(OccupancyGrid, AnEvictedNodeKeepsOnlyItsBookkeeping) {
+  const ScanRun run = corridorRun(40);
+  GlobalGridOptions noCache = options();
+  noCache.ltmCacheSize = 0.0f;
+  OccupancyGrid grid(noCache);
+  grid.setGridLoader([&](const std::vector<int>& ids) {
+    std::map<int, LocalGrid> out;
+    for (int id : ids) out[id] = run.grids.at((id - 1) % 40 + 1);
+    return out;
+  });
+  std::map<int, Transform> poses;
+  size_t oneLap = 0;
+  for (int lap = 0; lap < 2; ++lap) {
+    for (int i = 1; i <= 40; ++i) {
+      ASSERT_TRUE(grid.addLocalGrid(lap * 40 + i, run.grids.at(i)));
+      poses[lap * 40 + i] = run.poses.at(i);
+    }
+    grid.update(poses);
+    for (int i = 1; i <= 40; ++i) ASSERT_TRUE(grid.evictLocalGrid(lap * 40 + i));
+    if (lap == 0) oneLap = grid.memoryUsed();
+  }
+  EXPECT_EQ(grid.residentNodes(), 0u);
+  // Beyond the pose it is assembled at (and that entry's map node), which every node keeps.
+  const double perNode = double(grid.memoryUsed() - oneLap) / 40.0 - double(sizeof(Transform) + 64);
+  EXPECT_GT(perNode, 0.0);
+  EXPECT_LT(perNode, 128.0) << "bytes kept per evicted node (a cell set alone is over 100)";
+}
+
 // The same, with a loader that has lost the cells: the evicted nodes are left out (and counted),
 // so a re-assembly that needed them gives another map. What the test above would see if an
 // evicted node's cells were missing.
