@@ -12,6 +12,7 @@
 #include "GroundAlignment.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
+#include "rtabmap_core/geometry/IMU.h"
 #include "rtabmap_core/geometry/ImageRectification.h"
 
 namespace rtabmap {
@@ -41,6 +42,14 @@ Transform fromTwist(const Twist& v) {
 }
 
 }  // namespace
+
+Transform Odometry::withImuRotation(const Transform& guess, const Transform& imuRotation) const {
+  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
+  iso.linear() = imuRotation.rotationMatrix();
+  if (!guess.isNull()) iso.translation() = guess.translation();  // else: turning on the spot
+  const Transform t(iso);
+  return force3DoF_ ? t.to3DoF() : t;
+}
 
 Odometry::Odometry(const ParametersMap& parameters) : parameters_(parameters) {
   Parameters::validate(parameters_);
@@ -94,6 +103,7 @@ Transform Odometry::reportLost(SensorData& data, OdometryInfo& info) {
   // The motion model is no longer trustworthy: the next frame registers without prediction.
   velocityTransform_ = Transform();
   lastMotion_ = Transform();
+  imuAtPose_ = Transform();
   velocityHistory_.clear();
   data.setOdom(Transform(), info.covariance);
   if (resetCountdown_ > 0 && lostCount_ >= resetCountdown_) {
@@ -144,6 +154,19 @@ Transform Odometry::process(SensorData& data, const Transform& externalGuess, Od
     }
   }
 
+  // A frame with an IMU orientation (a filter's, e.g. the odometry node's imu topic): the base's
+  // orientation in the IMU's gravity-aligned frame.
+  const Transform imuOrientation = baseOrientationFromImu(data.imu());
+  if (!imuOrientation.isNull() && framesProcessed_ == 0 && pose_.isIdentity() && !force3DoF_) {
+    // The odometry frame's z axis up, as the original's odometry nodes do with an IMU: the
+    // first pose takes the IMU's roll and pitch (its heading means nothing to the map).
+    double roll, pitch, yaw;
+    imuOrientation.getEulerAngles(roll, pitch, yaw);
+    const Transform level(0.0, 0.0, 0.0, roll, pitch, 0.0);
+    RTABMAP_INFO("odometry starts at " << level.prettyPrint() << " (levelled by the IMU)");
+    reset(level);
+  }
+
   const bool initialising = needsInitialisation();
   Transform guess;
   if (!initialising) {
@@ -151,6 +174,12 @@ Transform Odometry::process(SensorData& data, const Transform& externalGuess, Od
       guess = externalGuess;
     } else if (guessMotion_) {
       guess = predictMotion(dt);
+      if (!imuOrientation.isNull() && !imuAtPose_.isNull()) {
+        // The IMU measures the turn since the last pose, where the constant-velocity model
+        // only extrapolates the previous one (a robot starting or stopping a turn).
+        guess = withImuRotation(guess, imuAtPose_.inverse() * imuOrientation);
+        info.guessFromImu = true;
+      }
     }
   }
   info.guess = guess;
@@ -198,6 +227,7 @@ Transform Odometry::process(SensorData& data, const Transform& externalGuess, Od
   }
   lostCount_ = 0;
   pose_ = (pose_ * motion).normalized();
+  imuAtPose_ = imuOrientation;  // null without one: the next frame's turn is not measured
   distanceTravelled_ += motion.getNorm();
   updateVelocity(motion, dt, data.stamp());
   info.lost = false;
@@ -213,6 +243,7 @@ void Odometry::reset(const Transform& initialPose) {
   pose_ = initialPose.isNull() ? Transform::Identity() : initialPose;
   velocityTransform_ = Transform();
   lastMotion_ = Transform();
+  imuAtPose_ = Transform();
   velocityHistory_.clear();
   previousStamp_ = 0.0;
   framesProcessed_ = 0;

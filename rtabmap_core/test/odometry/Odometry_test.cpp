@@ -2,10 +2,14 @@
 // convention, reset countdown (with a scripted approach), and parameter errors.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <deque>
+
+#include <Eigen/Geometry>
 
 #include "common/DistortedFrames.h"
 #include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/geometry/IMU.h"
 #include "rtabmap_core/odometry/Odometry.h"
 
 namespace rtabmap {
@@ -224,6 +228,94 @@ TEST(Odometry, AlignWithGroundStartsLevelWithTheFloor) {
   SensorData frame = frameAt(1.0);
   EXPECT_FALSE(blind.process(frame).isNull());
   EXPECT_TRUE(blind.getPose().isIdentity());
+}
+
+// A frame whose IMU (mounted turned and upside down on the base) reports the base at `base`'s
+// orientation in its gravity-aligned world.
+SensorData imuFrameAt(double stamp, const Transform& base) {
+  const Transform mount(0.05, 0.0, 0.1, M_PI, 0.0, M_PI_2);
+  const Eigen::Quaterniond q = (base * mount).quaternion();
+  IMU imu;
+  imu.orientation = q;
+  imu.localTransform = mount;
+  SensorData d = frameAt(stamp);
+  d.setIMU(imu);
+  return d;
+}
+
+double angleBetween(const Transform& a, const Transform& b) {
+  return Eigen::AngleAxisd(a.rotationMatrix().transpose() * b.rotationMatrix()).angle();
+}
+
+// An IMU orientation levels the first pose and gives the guess its rotation: the robot starts
+// a turn the constant-velocity model cannot foresee.
+TEST(Odometry, ImuLevelsTheStartAndGivesTheGuessItsRotation) {
+  ScriptedOdometry odom;
+  const Transform tilt(0, 0, 0, 0.1, -0.2, 0.7);  // on a ramp, heading 0.7 in the IMU's world
+  const Transform step(0.1, 0.0, 0.0, 0.0, 0.0, 0.0);
+  const Transform turn(0.1, 0.0, 0.0, 0.0, 0.0, 0.3);
+  odom.answers = {step, turn};
+  SensorData a = imuFrameAt(1.0, tilt), b = imuFrameAt(1.1, tilt * step), c = imuFrameAt(1.2, tilt * step * turn);
+  OdometryInfo info;
+  odom.process(a, &info);
+  double x, y, z, roll, pitch, yaw;
+  odom.getPose().getTranslationAndEulerAngles(x, y, z, roll, pitch, yaw);
+  EXPECT_NEAR(roll, 0.1, 1e-9);
+  EXPECT_NEAR(pitch, -0.2, 1e-9);
+  EXPECT_NEAR(yaw, 0.0, 1e-9) << "the IMU's heading is not the map's";
+  EXPECT_NEAR(Transform(x, y, z, 0, 0, 0).getNorm(), 0.0, 1e-12);
+  // Second frame: no velocity yet, but the IMU says the robot did not turn.
+  odom.process(b, &info);
+  ASSERT_FALSE(info.guess.isNull());
+  EXPECT_TRUE(info.guessFromImu);
+  EXPECT_LT(angleBetween(info.guess, Transform::Identity()), 1e-9);
+  EXPECT_NEAR(info.guess.translation().norm(), 0.0, 1e-12);
+  // Third: the constant-velocity translation with the IMU's 0.3 rad turn.
+  odom.process(c, &info);
+  EXPECT_TRUE(info.guessFromImu);
+  EXPECT_NEAR(info.guess.x(), 0.1, 1e-9);
+  EXPECT_LT(angleBetween(info.guess, turn), 1e-9);
+  EXPECT_EQ(odom.guesses.back(), info.guess);
+
+  // An external guess (wheel odometry) is left as given; a frame without an IMU falls back to
+  // the constant-velocity model, and the one after it to that too (no orientation at the pose).
+  odom.answers = {step, step, step};
+  SensorData d = imuFrameAt(1.3, tilt * step * turn * step);
+  odom.process(d, step, &info);
+  EXPECT_FALSE(info.guessFromImu);
+  EXPECT_EQ(info.guess, step);
+  SensorData e = frameAt(1.4);
+  odom.process(e, &info);
+  EXPECT_FALSE(info.guessFromImu);
+  SensorData f = imuFrameAt(1.5, tilt * step * turn * step * step * step);
+  odom.process(f, &info);
+  EXPECT_FALSE(info.guessFromImu);
+  EXPECT_LT(angleBetween(info.guess, step), 1e-9);
+}
+
+// Reg/Force3DoF keeps the odometry planar: no levelling, and a planar rotation in the guess.
+// A reset to a given pose keeps it.
+TEST(Odometry, ImuWithForce3DoFOrAGivenStartPose) {
+  const Transform tilt(0, 0, 0, 0.1, -0.2, 0.7);
+  ScriptedOdometry planar(ParametersMap{{"Reg/Force3DoF", "true"}});
+  const Transform turn(0.1, 0.0, 0.0, 0.0, 0.0, 0.3);
+  planar.answers = {turn};
+  SensorData a = imuFrameAt(1.0, tilt), b = imuFrameAt(1.1, tilt * turn);
+  OdometryInfo info;
+  planar.process(a, &info);
+  EXPECT_TRUE(planar.getPose().isIdentity());
+  planar.process(b, &info);
+  ASSERT_TRUE(info.guessFromImu);
+  EXPECT_NEAR(info.guess.roll(), 0.0, 1e-12);
+  EXPECT_NEAR(info.guess.pitch(), 0.0, 1e-12);
+  EXPECT_NEAR(info.guess.yaw(), 0.3, 1e-9);
+
+  ScriptedOdometry given;
+  const Transform start(1, 2, 0, 0, 0, 0.5);
+  given.reset(start);
+  SensorData c = imuFrameAt(2.0, tilt);
+  given.process(c, &info);
+  EXPECT_EQ(given.getPose(), start);
 }
 
 TEST(Odometry, FactoryAndNames) {

@@ -21,4 +21,9 @@ struct IMU {
   bool hasOrientation() const { return orientation.coeffs().squaredNorm() > 0.0; }
 };
 
+// The base's orientation in the IMU's gravity-aligned frame: R_world_imu * R_base_imu^-1
+// (IMU::localTransform is the IMU's pose on the base). Null when the IMU has no orientation
+// (or a non-finite one).
+Transform baseOrientationFromImu(const IMU& imu);
+
 }  // namespace rtabmap

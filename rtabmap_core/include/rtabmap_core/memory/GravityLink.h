@@ -15,10 +15,6 @@
 
 namespace rtabmap::memory {
 
-// The base's orientation in the IMU's gravity-aligned frame: R_world_imu * R_base_imu^-1
-// (IMU::localTransform is the IMU's pose on the base). Null when the IMU has no orientation.
-Transform baseOrientationFromImu(const IMU& imu);
-
 // The gravity link of node `id` with odometry pose `odomPose`, if it has one: none for a node
 // without a pose (appearance only), or without an orientation from the chosen source.
 std::optional<Link> gravityLinkOf(int id, const Transform& odomPose, const IMU& imu, bool useOdomGravity);

@@ -8,6 +8,12 @@
 //   OdometryS2S  lidar scan-to-scan     (Odom/Strategy 1, Reg/Strategy 1)
 // This base class owns what they share: the constant-velocity motion model, the external
 // guess, lost / recovery / reset countdown, the covariance convention, timing.
+//
+// Frames carrying an IMU orientation (SensorData::imu(), e.g. a Madgwick filter's through the
+// odometry node's imu topic; raw gyroscope and accelerometer samples are not used): the first
+// pose takes the IMU's roll and pitch, so the odometry frame's z axis is up (not with
+// Reg/Force3DoF, nor after a reset to a given pose), and the constant-velocity guess takes the
+// rotation the IMU measured since the last pose (an external guess is left as given).
 #include <Eigen/Core>
 
 #include <deque>
@@ -40,6 +46,7 @@ struct OdometryInfo {
   double distanceTravelled = 0.0;  // m, sum of |translation| since reset
   Transform transform;             // incremental motion found this frame (null if lost)
   Transform guess;                 // motion guess used (null if none)
+  bool guessFromImu = false;       // its rotation is the IMU's since the last pose
   // Covariance of the incremental motion (x y z roll pitch yaw); lost => 9999 on the diagonal.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
 };
@@ -93,6 +100,9 @@ class Odometry {
   // Motion expected over dt seconds (dt <= 0: stamps unknown, one frame's motion), null if
   // the model has no velocity yet.
   Transform predictMotion(double dt) const;
+  // The guess with its rotation replaced by the one the IMU measured (translation zero when
+  // there is no guess), planar with Reg/Force3DoF.
+  Transform withImuRotation(const Transform& guess, const Transform& imuRotation) const;
   // Feeds the constant-velocity model with the motion found over dt seconds.
   void updateVelocity(const Transform& motion, double dt, double stamp);
   // The frame is lost: null pose, 9999 covariance, reset countdown.
@@ -102,6 +112,7 @@ class Odometry {
   Transform pose_ = Transform::Identity();
   Transform velocityTransform_;  // last motion per second (constant-velocity model), null if none
   Transform lastMotion_;         // last motion per frame, for data without stamps
+  Transform imuAtPose_;          // the base's IMU orientation at pose_ (null if none)
   // (stamp, velocity as twist vx vy vz wx wy wz) of recent frames, for Odom/GuessSmoothingDelay.
   std::deque<std::pair<double, Eigen::Matrix<double, 6, 1>>> velocityHistory_;
   double guessSmoothingDelay_ = 0.0;
