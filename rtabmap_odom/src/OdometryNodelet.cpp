@@ -30,7 +30,7 @@ const std::vector<std::string> kCommonParameters = {
     "publish_null_when_lost", "expected_update_rate", "max_update_rate", "subscribe_depth", "subscribe_rgb",
     "subscribe_rgbd", "subscribe_stereo", "subscribe_scan", "subscribe_scan_cloud", "subscribe_odom_info",
     "subscribe_user_data", "subscribe_odom", "rgbd_cameras", "approx_sync", "approx_sync_max_interval",
-    "queue_size", "config_path", "image_transport", "depth_image_transport"};
+    "queue_size", "config_path", "image_transport", "depth_image_transport", "wait_imu_to_init"};
 
 rtabmap::Odometry::Type odometryType(const rtabmap::ParametersMap& parameters, bool lidar) {
   const bool frameToFrame =
@@ -74,6 +74,7 @@ void OdometryNodelet::readNodeParameters(ros::NodeHandle& pnh) {
   pnh.param("publish_null_when_lost", publishNullWhenLost_, publishNullWhenLost_);
   pnh.param("wait_for_transform_duration", waitForTransform_, waitForTransform_);
   pnh.param("expected_update_rate", expectedUpdateRate_, expectedUpdateRate_);
+  pnh.param("wait_imu_to_init", waitImuToInit_, waitImuToInit_);
   double maxUpdateRate = 0.0;
   pnh.param("max_update_rate", maxUpdateRate, maxUpdateRate);
   limiter_ = rtabmap_odom::UpdateRateLimiter(maxUpdateRate);
@@ -92,6 +93,7 @@ void OdometryNodelet::advertise(ros::NodeHandle& nh) {
   odomInfoPub_ = nh.advertise<rtabmap_ros::OdomInfo>("odom_info", 10);
   localMapPub_ = nh.advertise<sensor_msgs::PointCloud2>("odom_local_map", 1);
   lastFramePub_ = nh.advertise<sensor_msgs::PointCloud2>("odom_last_frame", 1);
+  imuSub_ = nh.subscribe("imu", 100, &OdometryNodelet::onImu, this);
   services_.push_back(nh.advertiseService("reset_odom", &OdometryNodelet::onReset, this));
   services_.push_back(nh.advertiseService("reset_odom_to_pose", &OdometryNodelet::onResetToPose, this));
   services_.push_back(nh.advertiseService("pause_odom", &OdometryNodelet::onPause, this));
@@ -162,6 +164,35 @@ rtabmap::Transform OdometryNodelet::guessMotion(const ros::Time& stamp, rtabmap:
   return motion;
 }
 
+void OdometryNodelet::onImu(const sensor_msgs::ImuConstPtr& msg) {
+  std::string why;
+  if (imuOrientations_.add(*msg, &why) != rtabmap_conversions::ImuOrientationBuffer::Intake::kKept &&
+      imuWarnings_.due("imu")) {
+    NODELET_WARN("%s: imu message not used: %s.", getName().c_str(), why.c_str());
+  }
+}
+
+bool OdometryNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp) {
+  const bool waiting = waitImuToInit_ && odometry_->framesProcessed() == 0;
+  if (imuOrientations_.empty() && !waiting) return true;
+  std::string why = "no message on the imu topic yet";
+  const std::optional<rtabmap::IMU> imu =
+      imuOrientations_.empty()
+          ? std::nullopt
+          : imuOrientations_.imuAt(
+                stamp.toSec(), [&](const std::string& frameId, std::string* e) { return sensorPose(frameId, stamp, e); },
+                &why);
+  if (imu) {
+    frame.setIMU(*imu);
+    return true;
+  }
+  if (errors_.due(waiting ? "imu wait" : "imu attach")) {
+    NODELET_WARN("%s: frame at %.6f has no imu orientation: %s%s.", getName().c_str(), stamp.toSec(), why.c_str(),
+                 waiting ? "; dropped until one comes (wait_imu_to_init)" : "");
+  }
+  return !waiting;
+}
+
 void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (paused_ || !odometry_) return;
@@ -171,6 +202,7 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
     clockJumpsSeen_ = d.clockJumps;
     NODELET_WARN("%s: ROS time jumped back; odometry restarts at the origin.", getName().c_str());
     resetLocked(rtabmap::Transform::Identity());
+    imuOrientations_.clear();
   }
   const ros::Time stamp = d.stamp;
   if (!limiter_.accept(stamp.toSec())) return;
@@ -183,6 +215,7 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
     return;
   }
   frame->setStamp(stamp.toSec());
+  if (!attachImuOrientation(*frame, stamp)) return;
   rtabmap::Transform guessPose;
   const rtabmap::Transform guess = guessMotion(stamp, &guessPose);
   rtabmap::OdometryInfo info;

@@ -15,8 +15,13 @@
 //   publish_null_when_lost (true)   when lost, publish odom with a null pose and 9999 covariance
 //   expected_update_rate (0)        Hz; warn when odometry updates slower than 80 % of it
 //   max_update_rate (0)             Hz; process at most this rate of frames (data stamps)
+//   wait_imu_to_init (false)        drop frames until one can carry an orientation from the imu
+//                                   topic, so odometry starts levelled by it
 //   subscribe_*, approx_sync, approx_sync_max_interval, queue_size, rgbd_cameras: the topics
 //   Group/Name                      core parameters (Odom/Strategy, Vis/MinInliers, Icp/...)
+// Topic in besides the synchronised ones: imu (sensor_msgs/Imu with an orientation, a filter's
+// output such as imu_filter_madgwick's): each frame carries the orientation at its stamp, which
+// levels the first pose and gives the motion guess its rotation (rtabmap_core Odometry.h).
 // Topics out: odom (nav_msgs/Odometry), odom_info (rtabmap_ros/OdomInfo), odom_local_map and
 // odom_last_frame (sensor_msgs/PointCloud2, odometry frame), tf.
 // Services: reset_odom, pause_odom, resume_odom (std_srvs/Empty), reset_odom_to_pose
@@ -24,6 +29,7 @@
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <rtabmap_ros/ResetPose.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>
@@ -36,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "rtabmap_conversions/ImuOrientationBuffer.h"
 #include "rtabmap_core/odometry/Odometry.h"
 #include "rtabmap_odom/OdometryOutputs.h"
 #include "rtabmap_sync/DataSubscriber.h"
@@ -105,6 +112,10 @@ class OdometryNodelet : public nodelet::Nodelet {
   bool onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool onResume(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   void onRateWatch(const ros::WallTimerEvent&);
+  void onImu(const sensor_msgs::ImuConstPtr& msg);
+  // Gives the frame the imu topic's orientation at its stamp; false when the frame must wait
+  // for one (wait_imu_to_init, before the first frame).
+  bool attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp);
 
   const bool lidar_;
   std::string frameId_ = "base_link";
@@ -114,6 +125,7 @@ class OdometryNodelet : public nodelet::Nodelet {
   bool publishNullWhenLost_ = true;
   double waitForTransform_ = 0.2;
   double expectedUpdateRate_ = 0.0;
+  bool waitImuToInit_ = false;
 
   std::mutex mutex_;  // odometry state: data callbacks vs services
   std::unique_ptr<rtabmap::Odometry> odometry_;
@@ -133,6 +145,9 @@ class OdometryNodelet : public nodelet::Nodelet {
   std::vector<ros::ServiceServer> services_;
   ros::WallTimer rateWatch_;
   rtabmap_sync::LogThrottle errors_;
+  rtabmap_conversions::ImuOrientationBuffer imuOrientations_;
+  rtabmap_sync::LogThrottle imuWarnings_;  // onImu's own (never called concurrently with itself)
+  ros::Subscriber imuSub_;  // after what onImu uses: shut down before they go
   rtabmap_sync::DataSubscriber subscriber_;  // last: its callbacks stop before the rest goes
 };
 

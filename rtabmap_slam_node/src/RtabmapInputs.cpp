@@ -5,7 +5,6 @@
 
 #include <algorithm>
 
-#include "rtabmap_conversions/ImuConversions.h"
 #include "rtabmap_conversions/LandmarkConversions.h"
 #include "rtabmap_conversions/OdometryConversions.h"
 #include "rtabmap_conversions/RGBDImageConversions.h"
@@ -128,36 +127,21 @@ std::optional<rtabmap::SensorData> RtabmapNodelet::makeFrame(const rtabmap_sync:
 
 void RtabmapNodelet::onImu(const sensor_msgs::ImuConstPtr& msg) {
   std::string why;
-  const std::optional<rtabmap::IMU> imu = rtabmap_conversions::imuFromMsg(*msg, rtabmap::Transform::Identity(), &why);
-  if (!imu) {
-    if (imuWarnings_.due("imu")) NODELET_WARN("%s: imu message ignored: %s.", getName().c_str(), why.c_str());
-    return;
-  }
-  if (!imu->hasOrientation()) return;  // a raw IMU: nothing to say about gravity here
-  if (!imuOrientations_.add({msg->header.stamp.toSec(), imu->orientation, msg->header.frame_id}, &why) &&
-      imuWarnings_.due("imu order")) {
-    NODELET_WARN("%s: imu orientation ignored: %s.", getName().c_str(), why.c_str());
+  // A raw IMU has nothing to say about gravity here: silently unused, as it may serve others.
+  if (imuOrientations_.add(*msg, &why) == rtabmap_conversions::ImuOrientationBuffer::Intake::kRefused &&
+      imuWarnings_.due("imu")) {
+    NODELET_WARN("%s: imu message ignored: %s.", getName().c_str(), why.c_str());
   }
 }
 
 void RtabmapNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp) {
   if (imuOrientations_.empty()) return;
-  const std::optional<rtabmap_slam_node::ImuOrientation> sample = imuOrientations_.at(stamp.toSec());
   std::string why;
-  if (!sample) {
-    why = "no imu orientation within 0.1 s of the frame";
-  } else {
-    // The IMU's pose on the robot (the orientation is the IMU frame's, not the base's).
-    const rtabmap::Transform local = sensorPose(sample->frameId, stamp, &why);
-    if (!local.isNull()) {
-      rtabmap::IMU imu;
-      imu.orientation = sample->orientation;
-      imu.localTransform = local;
-      frame.setIMU(imu);
-      return;
-    }
-  }
-  if (warnings_.due("imu attach")) {
+  const std::optional<rtabmap::IMU> imu = imuOrientations_.imuAt(
+      stamp.toSec(), [&](const std::string& frameId, std::string* e) { return sensorPose(frameId, stamp, e); }, &why);
+  if (imu) {
+    frame.setIMU(*imu);
+  } else if (warnings_.due("imu attach")) {
     NODELET_WARN("%s: frame at %.6f has no gravity reference: %s.", getName().c_str(), stamp.toSec(), why.c_str());
   }
 }

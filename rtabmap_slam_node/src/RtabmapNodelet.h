@@ -135,7 +135,7 @@
 
 #include "MapsPublisher.h"
 #include "rtabmap_core/slam/Rtabmap.h"
-#include "rtabmap_slam_node/ImuOrientationBuffer.h"
+#include "rtabmap_conversions/ImuOrientationBuffer.h"
 #include "rtabmap_slam_node/LandmarkBuffer.h"
 #include "rtabmap_slam_node/SlamNodeSupport.h"
 #include "rtabmap_sync/DataSubscriber.h"
@@ -276,7 +276,7 @@ class RtabmapNodelet : public nodelet::Nodelet {
   ros::Subscriber goalSub_, goalNodeSub_;
   std::optional<rtabmap::Transform> initialPose_;  // initial_pose
   ros::Subscriber initialPoseSub_;
-  rtabmap_slam_node::ImuOrientationBuffer imuOrientations_;
+  rtabmap_conversions::ImuOrientationBuffer imuOrientations_;
   rtabmap_sync::LogThrottle imuWarnings_;  // onImu's own (never called concurrently with itself)
   ros::Subscriber imuSub_;  // after what onImu uses: shut down before they go
   rtabmap_slam_node::LandmarkBuffer landmarkDetections_;

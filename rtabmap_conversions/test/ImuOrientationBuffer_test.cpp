@@ -1,10 +1,12 @@
-#include "rtabmap_slam_node/ImuOrientationBuffer.h"
+#include "rtabmap_conversions/ImuOrientationBuffer.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
-namespace rtabmap_slam_node {
+namespace rtabmap_conversions {
 namespace {
 
 Eigen::Quaterniond pitch(double a) { return Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY())); }
@@ -69,5 +71,62 @@ TEST(ImuOrientationBuffer, NoInterpolationBetweenTwoImus) {
   EXPECT_FALSE(b.at(1.005));
 }
 
+sensor_msgs::Imu message(double stamp, const Eigen::Quaterniond& q, bool withOrientation = true) {
+  sensor_msgs::Imu m;
+  m.header.stamp.fromSec(stamp);
+  m.header.frame_id = "imu_link";
+  m.orientation.x = q.x();
+  m.orientation.y = q.y();
+  m.orientation.z = q.z();
+  m.orientation.w = q.w();
+  if (!withOrientation) m.orientation_covariance[0] = -1.0;  // sensor_msgs/Imu: no orientation
+  return m;
+}
+
+// The topic's messages: an orientation is kept, a raw IMU's message is told apart from a bad one.
+TEST(ImuOrientationBuffer, MessagesAreKeptOrToldWhyNot) {
+  using Intake = ImuOrientationBuffer::Intake;
+  ImuOrientationBuffer b;
+  std::string why;
+  EXPECT_EQ(b.add(message(1.0, pitch(0.1)), &why), Intake::kKept) << why;
+  EXPECT_EQ(b.add(message(1.01, pitch(0.1), false), &why), Intake::kNoOrientation);
+  EXPECT_NE(why.find("raw IMU"), std::string::npos) << why;
+  EXPECT_EQ(b.add(message(1.0, pitch(0.2)), &why), Intake::kRefused) << "not after the previous sample";
+  sensor_msgs::Imu bad = message(1.02, pitch(0.1));
+  bad.orientation.x = std::nan("");
+  EXPECT_EQ(b.add(bad, &why), Intake::kRefused);
+  EXPECT_FALSE(why.empty());
+  ASSERT_TRUE(b.at(1.0));
+  EXPECT_NEAR(b.at(1.0)->orientation.angularDistance(pitch(0.1)), 0.0, 1e-9);
+}
+
+// What a frame carries: the orientation at its stamp with the IMU's pose on the robot, or why not.
+TEST(ImuOrientationBuffer, AFrameGetsTheImuAtItsStampWithItsMount) {
+  ImuOrientationBuffer b;
+  ASSERT_TRUE(b.add(sample(1.0, 0.0)));
+  ASSERT_TRUE(b.add(sample(1.05, 0.2)));
+  const rtabmap::Transform mount(0.1, 0.0, 0.2, M_PI, 0.0, 0.0);
+  std::vector<std::string> asked;
+  auto localOf = [&](const std::string& frame, std::string* why) {
+    asked.push_back(frame);
+    if (frame == "imu_link") return mount;
+    if (why) *why = "no tf for " + frame;
+    return rtabmap::Transform();
+  };
+  std::string why;
+  const std::optional<rtabmap::IMU> imu = b.imuAt(1.025, localOf, &why);
+  ASSERT_TRUE(imu) << why;
+  EXPECT_NEAR(imu->orientation.angularDistance(pitch(0.1)), 0.0, 1e-9);
+  EXPECT_EQ(imu->localTransform, mount);
+  EXPECT_EQ(asked, std::vector<std::string>{"imu_link"});
+
+  EXPECT_FALSE(b.imuAt(3.0, localOf, &why)) << "no sample near";
+  EXPECT_NE(why.find("no imu orientation"), std::string::npos) << why;
+  ImuOrientationBuffer other;
+  ASSERT_TRUE(other.add(sample(1.0, 0.0, "imu_unknown")));
+  EXPECT_FALSE(other.imuAt(1.0, localOf, &why)) << "no tf for the IMU's frame";
+  EXPECT_EQ(why, "no tf for imu_unknown");
+}
+
 }  // namespace
-}  // namespace rtabmap_slam_node
+}  // namespace rtabmap_conversions

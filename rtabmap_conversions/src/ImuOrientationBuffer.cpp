@@ -1,9 +1,12 @@
-#include "rtabmap_slam_node/ImuOrientationBuffer.h"
+#include "rtabmap_conversions/ImuOrientationBuffer.h"
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
-namespace rtabmap_slam_node {
+#include "rtabmap_conversions/ImuConversions.h"
+
+namespace rtabmap_conversions {
 
 ImuOrientationBuffer::ImuOrientationBuffer(double keepSeconds, double maxGapSeconds)
     : keep_(keepSeconds), maxGap_(maxGapSeconds) {}
@@ -54,6 +57,35 @@ std::optional<ImuOrientation> ImuOrientationBuffer::at(double stamp) const {
   return out;
 }
 
+ImuOrientationBuffer::Intake ImuOrientationBuffer::add(const sensor_msgs::Imu& msg, std::string* why) {
+  const std::optional<rtabmap::IMU> imu = imuFromMsg(msg, rtabmap::Transform::Identity(), why);
+  if (!imu) return Intake::kRefused;
+  if (!imu->hasOrientation()) {
+    if (why) *why = "the message has no orientation (a raw IMU: put a filter such as imu_filter_madgwick before it)";
+    return Intake::kNoOrientation;
+  }
+  return add({msg.header.stamp.toSec(), imu->orientation, msg.header.frame_id}, why) ? Intake::kKept : Intake::kRefused;
+}
+
+std::optional<rtabmap::IMU> ImuOrientationBuffer::imuAt(double stamp, const LocalPoseOf& localOf, std::string* why) const {
+  const std::optional<ImuOrientation> sample = at(stamp);
+  if (!sample) {
+    if (why) {
+      std::ostringstream m;
+      m << "no imu orientation within " << maxGap_ << " s of the frame";
+      *why = m.str();
+    }
+    return std::nullopt;
+  }
+  // The IMU's pose on the robot: the orientation is the IMU frame's, not the base's.
+  const rtabmap::Transform local = localOf(sample->frameId, why);
+  if (local.isNull()) return std::nullopt;
+  rtabmap::IMU imu;
+  imu.orientation = sample->orientation;
+  imu.localTransform = local;
+  return imu;
+}
+
 bool ImuOrientationBuffer::empty() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return samples_.empty();
@@ -64,4 +96,4 @@ void ImuOrientationBuffer::clear() {
   samples_.clear();
 }
 
-}  // namespace rtabmap_slam_node
+}  // namespace rtabmap_conversions

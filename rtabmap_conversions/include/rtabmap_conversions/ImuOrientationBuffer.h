@@ -1,17 +1,24 @@
 #pragma once
-// The rtabmap node's `imu` topic: the orientations an IMU filter publishes (sensor_msgs/Imu
-// with an orientation, e.g. imu_filter_madgwick's output, at 100-400 Hz), kept for a few seconds
-// so each frame gets the orientation at its own stamp. The core turns it into the node's
-// gravity link (rtabmap_core/memory/GravityLink.h; used with Optimizer/GravitySigma > 0).
-// Thread-safe: the imu callback and the data callback may run at once.
+// The `imu` topic of the rtabmap and odometry nodes: the orientations an IMU filter publishes
+// (sensor_msgs/Imu with an orientation, e.g. imu_filter_madgwick's output, at 100-400 Hz), kept
+// for a few seconds so each frame gets the orientation at its own stamp. The core turns it into
+// the node's gravity link (rtabmap_core/memory/GravityLink.h; used with Optimizer/GravitySigma >
+// 0) and odometry into a levelled start and the rotation of its motion guess
+// (rtabmap_core/odometry/Odometry.h). Thread-safe: the imu callback and the data callback may
+// run at once.
 #include <Eigen/Geometry>
 
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
 
-namespace rtabmap_slam_node {
+#include <sensor_msgs/Imu.h>
+
+#include "rtabmap_core/geometry/IMU.h"
+
+namespace rtabmap_conversions {
 
 struct ImuOrientation {
   double stamp = 0.0;
@@ -33,6 +40,16 @@ class ImuOrientationBuffer {
   // The orientation at `stamp`: spherical interpolation between the samples around it; none
   // when no sample is within maxGapSeconds (the caller then gives the frame no orientation).
   std::optional<ImuOrientation> at(double stamp) const;
+
+  enum class Intake { kKept, kNoOrientation, kRefused };
+  // A message of the topic: kept, without an orientation (a raw IMU: nothing to keep), or
+  // refused (not finite, out of order; why says it).
+  Intake add(const sensor_msgs::Imu& msg, std::string* why = nullptr);
+  // The IMU a frame at `stamp` carries: the orientation there with the IMU frame's pose on the
+  // robot, localOf(frameId, why) (a tf lookup; null when unknown). None, with why, when either
+  // is missing.
+  using LocalPoseOf = std::function<rtabmap::Transform(const std::string& frameId, std::string* why)>;
+  std::optional<rtabmap::IMU> imuAt(double stamp, const LocalPoseOf& localOf, std::string* why = nullptr) const;
   bool empty() const;
   void clear();  // ROS time jumped back (a restarted bag): older stamps come again
 
@@ -42,4 +59,4 @@ class ImuOrientationBuffer {
   std::deque<ImuOrientation> samples_;  // by increasing stamp
 };
 
-}  // namespace rtabmap_slam_node
+}  // namespace rtabmap_conversions
