@@ -17,6 +17,7 @@
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/odometry/OdometryF2M.h"
 #include "rtabmap_core/odometry/OdometryS2M.h"
+#include "rtabmap_conversions/ImuConversions.h"
 #include "rtabmap_odom/NodeParameters.h"
 #include "rtabmap_odom/PrivateParameters.h"
 
@@ -166,9 +167,37 @@ rtabmap::Transform OdometryNodelet::guessMotion(const ros::Time& stamp, rtabmap:
 
 void OdometryNodelet::onImu(const sensor_msgs::ImuConstPtr& msg) {
   std::string why;
-  if (imuOrientations_.add(*msg, &why) != rtabmap_conversions::ImuOrientationBuffer::Intake::kKept &&
-      imuWarnings_.due("imu")) {
-    NODELET_WARN("%s: imu message not used: %s.", getName().c_str(), why.c_str());
+  if (imuOrientations_.add(*msg, &why) == rtabmap_conversions::ImuOrientationBuffer::Intake::kRefused) {
+    if (imuWarnings_.due("imu")) NODELET_WARN("%s: imu message ignored: %s.", getName().c_str(), why.c_str());
+    return;
+  }
+  // Its angular velocity too, for the guess when the frames have no orientation: handed to the
+  // odometry by the next frame (this callback does not wait for an update to end).
+  const std::optional<rtabmap::IMU> imu = rtabmap_conversions::imuFromMsg(*msg);
+  if (!imu || imu->angularVelocity.isZero(0.0)) return;
+  std::lock_guard<std::mutex> lock(gyroMutex_);
+  if (pendingGyro_.size() < kMaxPendingGyro) pendingGyro_.push_back({msg->header.stamp, msg->header.frame_id, *imu});
+}
+
+void OdometryNodelet::handOverGyroSamples() {
+  std::vector<PendingGyro> samples;
+  {
+    std::lock_guard<std::mutex> lock(gyroMutex_);
+    samples.swap(pendingGyro_);
+  }
+  for (PendingGyro& g : samples) {
+    auto mount = imuMounts_.find(g.frameId);
+    if (mount == imuMounts_.end()) {
+      std::string why;
+      const rtabmap::Transform local = sensorPose(g.frameId, g.stamp, &why);
+      if (local.isNull()) {
+        if (errors_.due("imu mount")) NODELET_WARN("%s: imu sample not used: %s.", getName().c_str(), why.c_str());
+        continue;
+      }
+      mount = imuMounts_.emplace(g.frameId, local).first;  // a mounting does not move
+    }
+    g.imu.localTransform = mount->second;
+    odometry_->addImu(g.stamp.toSec(), g.imu);
   }
 }
 
@@ -203,6 +232,8 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
     NODELET_WARN("%s: ROS time jumped back; odometry restarts at the origin.", getName().c_str());
     resetLocked(rtabmap::Transform::Identity());
     imuOrientations_.clear();
+    std::lock_guard<std::mutex> lock(gyroMutex_);
+    pendingGyro_.clear();
   }
   const ros::Time stamp = d.stamp;
   if (!limiter_.accept(stamp.toSec())) return;
@@ -216,6 +247,7 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
   }
   frame->setStamp(stamp.toSec());
   if (!attachImuOrientation(*frame, stamp)) return;
+  handOverGyroSamples();
   rtabmap::Transform guessPose;
   const rtabmap::Transform guess = guessMotion(stamp, &guessPose);
   rtabmap::OdometryInfo info;

@@ -19,9 +19,10 @@
 //                                   topic, so odometry starts levelled by it
 //   subscribe_*, approx_sync, approx_sync_max_interval, queue_size, rgbd_cameras: the topics
 //   Group/Name                      core parameters (Odom/Strategy, Vis/MinInliers, Icp/...)
-// Topic in besides the synchronised ones: imu (sensor_msgs/Imu with an orientation, a filter's
-// output such as imu_filter_madgwick's): each frame carries the orientation at its stamp, which
-// levels the first pose and gives the motion guess its rotation (rtabmap_core Odometry.h).
+// Topic in besides the synchronised ones: imu (sensor_msgs/Imu): with an orientation (a filter's
+// output such as imu_filter_madgwick's) each frame carries the orientation at its stamp, which
+// levels the first pose and gives the motion guess its rotation; without one, the gyroscope's
+// rotation between two frames is the guess's (rtabmap_core Odometry.h).
 // Topics out: odom (nav_msgs/Odometry), odom_info (rtabmap_ros/OdomInfo), odom_local_map and
 // odom_last_frame (sensor_msgs/PointCloud2, odometry frame), tf.
 // Services: reset_odom, pause_odom, resume_odom (std_srvs/Empty), reset_odom_to_pose
@@ -36,6 +37,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -116,6 +118,8 @@ class OdometryNodelet : public nodelet::Nodelet {
   // Gives the frame the imu topic's orientation at its stamp; false when the frame must wait
   // for one (wait_imu_to_init, before the first frame).
   bool attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp);
+  // Gives the odometry the angular velocities received since the last frame (mutex_ held).
+  void handOverGyroSamples();
 
   const bool lidar_;
   std::string frameId_ = "base_link";
@@ -146,6 +150,15 @@ class OdometryNodelet : public nodelet::Nodelet {
   ros::WallTimer rateWatch_;
   rtabmap_sync::LogThrottle errors_;
   rtabmap_conversions::ImuOrientationBuffer imuOrientations_;
+  struct PendingGyro {
+    ros::Time stamp;
+    std::string frameId;
+    rtabmap::IMU imu;
+  };
+  static constexpr size_t kMaxPendingGyro = 2000;  // 5 s at 400 Hz: odometry stopped or paused
+  std::mutex gyroMutex_;
+  std::vector<PendingGyro> pendingGyro_;  // onImu -> the next frame
+  std::map<std::string, rtabmap::Transform> imuMounts_;  // IMU frame -> its pose on the base
   rtabmap_sync::LogThrottle imuWarnings_;  // onImu's own (never called concurrently with itself)
   ros::Subscriber imuSub_;  // after what onImu uses: shut down before they go
   rtabmap_sync::DataSubscriber subscriber_;  // last: its callbacks stop before the rest goes

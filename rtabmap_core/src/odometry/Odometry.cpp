@@ -8,8 +8,10 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <optional>
 
 #include "GroundAlignment.h"
+#include "GyroIntegration.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/geometry/IMU.h"
@@ -43,15 +45,20 @@ Transform fromTwist(const Twist& v) {
 
 }  // namespace
 
-Transform Odometry::withImuRotation(const Transform& guess, const Transform& imuRotation) const {
+Transform Odometry::withImuRotation(const Transform& guess, const Eigen::Matrix3d& imuRotation) const {
   Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
-  iso.linear() = imuRotation.rotationMatrix();
+  iso.linear() = imuRotation;
   if (!guess.isNull()) iso.translation() = guess.translation();  // else: turning on the spot
   const Transform t(iso);
   return force3DoF_ ? t.to3DoF() : t;
 }
 
-Odometry::Odometry(const ParametersMap& parameters) : parameters_(parameters) {
+Odometry::~Odometry() = default;
+
+bool Odometry::addImu(double stamp, const IMU& imu) { return gyro_->add(stamp, imu); }
+
+Odometry::Odometry(const ParametersMap& parameters)
+    : parameters_(parameters), gyro_(std::make_unique<odometry_detail::GyroIntegration>()) {
   Parameters::validate(parameters_);
   resetCountdown_ = Parameters::getInt(parameters_, Parameters::kOdomResetCountdown());
   guessMotion_ = Parameters::getBool(parameters_, Parameters::kOdomGuessMotion());
@@ -104,6 +111,8 @@ Transform Odometry::reportLost(SensorData& data, OdometryInfo& info) {
   velocityTransform_ = Transform();
   lastMotion_ = Transform();
   imuAtPose_ = Transform();
+  stampAtPose_ = 0.0;
+  gyro_->clear();  // a reset may follow ROS time jumping back: older samples come again
   velocityHistory_.clear();
   data.setOdom(Transform(), info.covariance);
   if (resetCountdown_ > 0 && lostCount_ >= resetCountdown_) {
@@ -174,10 +183,17 @@ Transform Odometry::process(SensorData& data, const Transform& externalGuess, Od
       guess = externalGuess;
     } else if (guessMotion_) {
       guess = predictMotion(dt);
+      // The IMU measures the turn since the last pose, where the constant-velocity model only
+      // extrapolates the previous one (a robot starting or stopping a turn): from orientations
+      // when the frames carry them, else from the raw gyroscope samples given (addImu).
+      std::optional<Eigen::Matrix3d> turn;
       if (!imuOrientation.isNull() && !imuAtPose_.isNull()) {
-        // The IMU measures the turn since the last pose, where the constant-velocity model
-        // only extrapolates the previous one (a robot starting or stopping a turn).
-        guess = withImuRotation(guess, imuAtPose_.inverse() * imuOrientation);
+        turn = (imuAtPose_.inverse() * imuOrientation).rotationMatrix();
+      } else if (!gyro_->empty() && stampAtPose_ > 0.0 && data.stamp() > stampAtPose_) {
+        turn = gyro_->rotationBetween(stampAtPose_, data.stamp());
+      }
+      if (turn) {
+        guess = withImuRotation(guess, *turn);
         info.guessFromImu = true;
       }
     }
@@ -228,6 +244,10 @@ Transform Odometry::process(SensorData& data, const Transform& externalGuess, Od
   lostCount_ = 0;
   pose_ = (pose_ * motion).normalized();
   imuAtPose_ = imuOrientation;  // null without one: the next frame's turn is not measured
+  if (data.stamp() > 0.0) {
+    stampAtPose_ = data.stamp();
+    gyro_->dropBefore(stampAtPose_);
+  }
   distanceTravelled_ += motion.getNorm();
   updateVelocity(motion, dt, data.stamp());
   info.lost = false;
@@ -244,6 +264,8 @@ void Odometry::reset(const Transform& initialPose) {
   velocityTransform_ = Transform();
   lastMotion_ = Transform();
   imuAtPose_ = Transform();
+  stampAtPose_ = 0.0;
+  gyro_->clear();  // a reset may follow ROS time jumping back: older samples come again
   velocityHistory_.clear();
   previousStamp_ = 0.0;
   framesProcessed_ = 0;

@@ -318,6 +318,45 @@ TEST(Odometry, ImuWithForce3DoFOrAGivenStartPose) {
   EXPECT_EQ(given.getPose(), start);
 }
 
+// Raw gyroscope samples (no orientation in the frames): the guess turns as the IMU measured
+// between the last pose's frame and this one; frames the samples do not cover keep the
+// constant-velocity guess.
+TEST(Odometry, GyroscopeSamplesGiveTheGuessItsRotation) {
+  ScriptedOdometry odom;
+  const Transform step(0.1, 0.0, 0.0, 0.0, 0.0, 0.0);
+  odom.answers = {step, step, step};
+  const Transform mount(0.0, 0.0, 0.15, M_PI, 0.0, 0.0);  // upside down: its z is the base's -z
+  IMU imu;
+  imu.localTransform = mount;
+  auto yawRate = [&](double t0, double t1, double rate) {
+    for (double t = t0; t <= t1 + 1e-9; t += 0.005) {
+      imu.angularVelocity = Eigen::Vector3d(0, 0, -rate);
+      odom.addImu(t, imu);
+    }
+  };
+  OdometryInfo info;
+  SensorData a = frameAt(1.0), b = frameAt(1.1), c = frameAt(1.2), d = frameAt(1.5);
+  yawRate(0.9, 1.0, 0.0001);
+  odom.process(a, &info);
+  EXPECT_TRUE(odom.getPose().isIdentity()) << "no orientation: nothing to level with";
+  yawRate(1.005, 1.1, 2.0);  // starting a turn at 2 rad/s
+  odom.process(b, &info);
+  ASSERT_TRUE(info.guessFromImu);
+  // 0.19 rad at 2 rad/s from 1.005 to 1.1, and 0.005 over the sample period where the rate
+  // rose (two samples' mean).
+  EXPECT_NEAR(info.guess.yaw(), 0.195, 1e-4);
+  EXPECT_NEAR(info.guess.translation().norm(), 0.0, 1e-12) << "no velocity yet";
+  yawRate(1.105, 1.2, 1.0);
+  odom.process(c, &info);
+  ASSERT_TRUE(info.guessFromImu);
+  EXPECT_NEAR(info.guess.yaw(), 0.0075 + 0.095, 1e-4);
+  EXPECT_NEAR(info.guess.x(), 0.1, 1e-9);
+  // 0.3 s later, without samples since 1.2: the constant-velocity model.
+  odom.process(d, &info);
+  EXPECT_FALSE(info.guessFromImu);
+  EXPECT_NEAR(info.guess.x(), 0.3, 1e-9);
+}
+
 TEST(Odometry, FactoryAndNames) {
   EXPECT_EQ(Odometry::create()->type(), Odometry::Type::kF2M);
   EXPECT_EQ(Odometry::create({{"Odom/Strategy", "1"}})->type(), Odometry::Type::kF2F);

@@ -49,6 +49,10 @@ Eigen::Matrix<double, 6, 6> wheelIncrementCovariance(const Transform& motion) {
 }
 
 std::optional<FrameResult> OdometryStage::process(DatasetRecord& record) {
+  if (record.kind == DatasetRecord::Kind::kImu) {
+    odometry_->addImu(record.stamp, record.data.imu());
+    return std::nullopt;
+  }
   if (record.kind == DatasetRecord::Kind::kOdometry) {
     if (!record.data.odomPose().isNull()) latestWheel_ = record.data.odomPose();
     return std::nullopt;
@@ -98,6 +102,7 @@ FrameRecord::FrameRecord(const FrameResult& frame)
       lost(frame.info.lost),
       keyFrameAdded(frame.info.keyFrameAdded),
       autoReset(frame.info.autoReset),
+      guessFromImu(frame.info.guessFromImu),
       features(frame.info.features),
       matches(frame.info.reg.matches),
       inliers(frame.info.reg.inliers),
@@ -170,7 +175,7 @@ nlohmann::json RunStatistics::toJson() const {
   j["dataset"] = options_.path;
   j["odometry"] = approach_;
   std::vector<double> times, features, inliers;
-  int lost = 0, keyFrames = 0, resets = 0;
+  int lost = 0, keyFrames = 0, resets = 0, imuGuesses = 0;
   double distance = 0.0;
   for (const FrameRecord& f : frames_) {
     times.push_back(f.timeTotalMs);
@@ -183,11 +188,13 @@ nlohmann::json RunStatistics::toJson() const {
     }
     keyFrames += f.keyFrameAdded ? 1 : 0;
     resets += f.autoReset ? 1 : 0;
+    imuGuesses += f.guessFromImu ? 1 : 0;
   }
   j["frames"] = frames_.size();
   j["lost"] = lost;
   j["key_frames"] = keyFrames;
   j["resets"] = resets;
+  j["imu_guesses"] = imuGuesses;  // frames whose guess turned as the IMU measured (--imu)
   j["odom_ms_median"] = median(times);
   j["odom_ms_mean"] = times.empty() ? 0.0 : std::accumulate(times.begin(), times.end(), 0.0) / static_cast<double>(times.size());
   j["odom_ms_max"] = times.empty() ? 0.0 : *std::max_element(times.begin(), times.end());

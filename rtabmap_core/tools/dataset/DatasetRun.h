@@ -51,7 +51,8 @@ struct FrameResult {
 class OdometryStage {
  public:
   explicit OdometryStage(const RunOptions& options);
-  // Consumes kOdometry records (wheel odometry between frames); returns a result for kFrame
+  // Consumes kOdometry records (wheel odometry between frames) and kImu records (given to
+  // odometry, --imu); returns a result for kFrame
   // records only.
   std::optional<FrameResult> process(DatasetRecord& record);
   const Odometry& odometry() const { return *odometry_; }
@@ -79,7 +80,7 @@ struct FrameRecord {
   int id;
   double stamp;
   Transform pose, groundTruth, cameraLocal;  // as in FrameResult
-  bool lost, keyFrameAdded, autoReset;
+  bool lost, keyFrameAdded, autoReset, guessFromImu;
   int features, matches, inliers, localMapSize;
   double timeTotalMs;
   double distanceTravelled;

@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
                                   "calibration, colour f = 525 or --calibration's) instead of using it as recorded.");
     cli.addFlag("guess-odom", "Use the dataset's wheel odometry (motion since the previous frame) as the "
                               "odometry's motion guess instead of the constant-velocity model.");
+    cli.addFlag("imu", "Give the dataset's IMU samples (EuRoC, sim) to odometry: the gyroscope's rotation between "
+                       "two frames is the rotation of the motion guess.");
     cli.addOption("ate-frame", "FRAME",
                   "Frame whose trajectory ATE compares: base (the dataset's ground-truth frame) or camera "
                   "(the (left) camera optical frame, e.g. EuRoC's camera rather than its IMU).",
@@ -86,7 +88,7 @@ int main(int argc, char** argv) {
                   "vocabulary (MB), points in the vocabulary's index, and what the global grid's update did: its "
                   "path (0 none, 1 incremental, 2 region, 3 full), nodes moved, nodes replayed, cell updates.");
     cli.addOption("threads", "N", "OpenCV threads (0 = OpenCV's default, 1 = single core as the bench).", "0");
-    cli.addNote("With --json, the last stdout line is a JSON object: frames, lost, key_frames, odom_ms_median, "
+    cli.addNote("With --json, the last stdout line is a JSON object: frames, lost, key_frames, imu_guesses, odom_ms_median, "
                 "odom_ms_mean, odom_ms_max, odom_ate_rmse (and mean, median, max) when there is ground truth; "
                 "with --slam also nodes, sessions, loop_closures, proximity_links, time_proximity_links, rejected_links, "
                 "slam_ms_median, slam_ms_p99, slam_ms_max, max_wm_size, realtime_factor and ate_rmse (optimised "
@@ -124,7 +126,7 @@ int main(int argc, char** argv) {
     if (cli.has("gt")) options.reader.groundTruthPath = cli.option("gt");
     if (cli.has("calibration")) options.reader.calibrationPath = cli.option("calibration");
     options.reader.registerDepth = cli.flag("register-depth");
-    options.reader.imu = false;
+    options.reader.imu = cli.flag("imu");
     options.wheelOdometryGuess = cli.flag("guess-odom");
     if (cli.has("frames-csv")) options.framesCsv = cli.option("frames-csv");
     if (cli.has("updates-csv")) options.updatesCsv = cli.option("updates-csv");

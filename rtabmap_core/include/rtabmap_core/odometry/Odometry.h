@@ -9,23 +9,29 @@
 // This base class owns what they share: the constant-velocity motion model, the external
 // guess, lost / recovery / reset countdown, the covariance convention, timing.
 //
-// Frames carrying an IMU orientation (SensorData::imu(), e.g. a Madgwick filter's through the
-// odometry node's imu topic; raw gyroscope and accelerometer samples are not used): the first
-// pose takes the IMU's roll and pitch, so the odometry frame's z axis is up (not with
-// Reg/Force3DoF, nor after a reset to a given pose), and the constant-velocity guess takes the
-// rotation the IMU measured since the last pose (an external guess is left as given).
+// An IMU: frames carrying its orientation (SensorData::imu(), e.g. a Madgwick filter's through
+// the odometry node's imu topic) give the first pose the IMU's roll and pitch, so the odometry
+// frame's z axis is up (not with Reg/Force3DoF, nor after a reset to a given pose), and the
+// constant-velocity guess the rotation the IMU measured since the last pose. Without
+// orientations, the raw gyroscope samples given to addImu() measure that rotation (integrated
+// between the frames' stamps). An external guess is left as given.
 #include <Eigen/Core>
 
 #include <deque>
 #include <memory>
 #include <string>
 
+#include "rtabmap_core/geometry/IMU.h"
 #include "rtabmap_core/geometry/SensorData.h"
 #include "rtabmap_core/geometry/Transform.h"
 #include "rtabmap_core/params/Parameters.h"
 #include "rtabmap_core/registration/RegistrationInfo.h"
 
 namespace rtabmap {
+
+namespace odometry_detail {
+class GyroIntegration;
+}
 
 // What one odometry update did (published as rtabmap_ros/OdomInfo).
 struct OdometryInfo {
@@ -65,7 +71,7 @@ class Odometry {
   static std::string typeName(Type type);
   static Type typeFromName(const std::string& name);
 
-  virtual ~Odometry() = default;
+  virtual ~Odometry();
   virtual Type type() const = 0;
 
   // Processes one frame and returns its pose in the odometry frame, or a null Transform when
@@ -75,6 +81,11 @@ class Odometry {
   // Same with an external motion guess: the motion since the previous frame given by another
   // source (wheel odometry), used instead of the constant-velocity prediction.
   Transform process(SensorData& data, const Transform& guess, OdometryInfo* info);
+
+  // A raw IMU sample (angular velocity; IMU::localTransform its pose on the base), in stamp
+  // order, before the frames it comes before. False when it is not used (no angular velocity,
+  // not finite, not after the previous one).
+  bool addImu(double stamp, const IMU& imu);
 
   // Restarts from `initialPose` (identity by default) with an empty map.
   void reset(const Transform& initialPose = Transform::Identity());
@@ -102,7 +113,7 @@ class Odometry {
   Transform predictMotion(double dt) const;
   // The guess with its rotation replaced by the one the IMU measured (translation zero when
   // there is no guess), planar with Reg/Force3DoF.
-  Transform withImuRotation(const Transform& guess, const Transform& imuRotation) const;
+  Transform withImuRotation(const Transform& guess, const Eigen::Matrix3d& imuRotation) const;
   // Feeds the constant-velocity model with the motion found over dt seconds.
   void updateVelocity(const Transform& motion, double dt, double stamp);
   // The frame is lost: null pose, 9999 covariance, reset countdown.
@@ -113,6 +124,8 @@ class Odometry {
   Transform velocityTransform_;  // last motion per second (constant-velocity model), null if none
   Transform lastMotion_;         // last motion per frame, for data without stamps
   Transform imuAtPose_;          // the base's IMU orientation at pose_ (null if none)
+  double stampAtPose_ = 0.0;     // the stamp of the frame at pose_ (0: none)
+  std::unique_ptr<odometry_detail::GyroIntegration> gyro_;  // addImu()'s samples
   // (stamp, velocity as twist vx vy vz wx wy wz) of recent frames, for Odom/GuessSmoothingDelay.
   std::deque<std::pair<double, Eigen::Matrix<double, 6, 1>>> velocityHistory_;
   double guessSmoothingDelay_ = 0.0;
