@@ -115,6 +115,11 @@ SweepMotion SweepMotion::fromVelocity(const rtabmap::Transform& motion, double i
   return SweepMotion(rtabmap::Transform::Identity(), 0.0, motion, interval);
 }
 
+SweepMotion SweepMotion::fromEnds(const rtabmap::Transform& atFirst, double firstDt, const rtabmap::Transform& atLast,
+                                  double lastDt) {
+  return SweepMotion(atFirst, firstDt, atLast, lastDt);
+}
+
 rtabmap::Transform SweepMotion::at(double dt) const {
   if (lastDt_ == firstDt_) return first_;
   return first_.interpolate((dt - firstDt_) / (lastDt_ - firstDt_), last_);

@@ -7,13 +7,18 @@
 // deskewing (false): move each point of a sweep to where it would have been measured at the
 // message's stamp (rtabmap_conversions/Deskewing.h). Point times come from the LaserScan's
 // time_increment (projected through laser_geometry) or the cloud's time field; the motion over
-// the sweep from tf through guess_frame_id when set (wheel odometry), else from the odometry's
+// the sweep from tf through guess_frame_id when set (wheel odometry), else turned as the imu
+// topic's gyroscope measured (moving at the odometry's last velocity), else from the odometry's
 // own last motion (constant velocity). A frame that cannot be deskewed is used as it is, with a
 // throttled warning saying why.
 // Common parameters, topics and services: OdometryNodelet.h.
 #include <pluginlib/class_list_macros.hpp>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <optional>
+#include <vector>
 
 #include "OdometryNodelet.h"
 #include "rtabmap_conversions/Deskewing.h"
@@ -97,8 +102,9 @@ class ICPOdometryNodelet : public OdometryNodelet {
     return scan;
   }
 
-  // The sensor's motion over the sweep: tf through guess_frame_id, else the last odometry motion
-  // moved into the sensor frame.
+  // The sensor's motion over the sweep: tf through guess_frame_id; else the rotation the imu
+  // topic's gyroscope measured with the odometry's last velocity; else the last odometry motion;
+  // each moved into the sensor frame.
   std::optional<rtabmap_conversions::SweepMotion> sweepMotion(const std_msgs::Header& header,
                                                                const std::vector<double>& times,
                                                                const rtabmap::Transform& local, std::string* why) {
@@ -109,8 +115,41 @@ class ICPOdometryNodelet : public OdometryNodelet {
     }
     double interval = 0.0;
     const rtabmap::Transform& motion = lastMotion(&interval);
+    if (std::optional<rtabmap_conversions::SweepMotion> m = gyroSweepMotion(header, times, local, motion, interval)) {
+      return m;
+    }
     if (motion.isNull()) return std::nullopt;  // first frame, lost or reset: nothing to say
     return rtabmap_conversions::SweepMotion::fromVelocity(local.inverse() * motion * local, interval);
+  }
+
+  // The sweep turned as the gyroscope measured between the stamp and the first / last point
+  // times, moving at the odometry's last velocity (none yet: only turning); none without
+  // gyroscope samples covering the sweep.
+  std::optional<rtabmap_conversions::SweepMotion> gyroSweepMotion(const std_msgs::Header& header,
+                                                                   const std::vector<double>& times,
+                                                                   const rtabmap::Transform& local,
+                                                                   const rtabmap::Transform& motion, double interval) {
+    const double stamp = header.stamp.toSec();
+    auto rotationTo = [&](double dt) -> std::optional<Eigen::Matrix3d> {
+      if (dt == 0.0) return Eigen::Matrix3d::Identity();
+      if (dt > 0.0) return imuRotationBetween(stamp, stamp + dt);
+      const std::optional<Eigen::Matrix3d> back = imuRotationBetween(stamp + dt, stamp);
+      if (!back) return std::nullopt;
+      return Eigen::Matrix3d(back->transpose());
+    };
+    const auto [first, last] = std::minmax_element(times.begin(), times.end());
+    const std::optional<Eigen::Matrix3d> atFirst = rotationTo(*first), atLast = rotationTo(*last);
+    if (!atFirst || !atLast) return std::nullopt;
+    const Eigen::Vector3d velocity =
+        motion.isNull() || interval <= 0.0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(motion.translation() / interval);
+    auto inSensor = [&](const Eigen::Matrix3d& rotation, double dt) {
+      Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+      base.linear() = rotation;
+      base.translation() = velocity * dt;
+      return local.inverse() * rtabmap::Transform(base) * local;
+    };
+    return rtabmap_conversions::SweepMotion::fromEnds(inSensor(*atFirst, *first), *first, inSensor(*atLast, *last),
+                                                      *last);
   }
 
   rtabmap::LaserScan frameCloud(const rtabmap::SensorData& frame) const override {

@@ -237,6 +237,7 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
   }
   const ros::Time stamp = d.stamp;
   if (!limiter_.accept(stamp.toSec())) return;
+  handOverGyroSamples();  // before makeFrame: deskewing may turn a sweep as the gyroscope did
   std::string error;
   std::optional<rtabmap::SensorData> frame = makeFrame(d, &error);
   if (!frame) {
@@ -247,7 +248,6 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
   }
   frame->setStamp(stamp.toSec());
   if (!attachImuOrientation(*frame, stamp)) return;
-  handOverGyroSamples();
   rtabmap::Transform guessPose;
   const rtabmap::Transform guess = guessMotion(stamp, &guessPose);
   rtabmap::OdometryInfo info;

@@ -82,6 +82,11 @@ class OdometryNodelet : public nodelet::Nodelet {
   // The odometry's last motion of frame_id and the seconds it took (null before the first
   // motion and after a reset; kept through lost frames): the constant-velocity model of the
   // current frame's sweep.
+  // The base's rotation from t0 to t1 the imu topic's gyroscope measured (samples up to the
+  // frame being made); none when they do not cover it. Called from makeFrame.
+  std::optional<Eigen::Matrix3d> imuRotationBetween(double t0, double t1) const {
+    return odometry_->imuRotationBetween(t0, t1);
+  }
   const rtabmap::Transform& lastMotion(double* interval) const {
     *interval = lastInterval_;
     return lastMotion_;

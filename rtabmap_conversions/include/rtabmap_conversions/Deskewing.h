@@ -3,8 +3,8 @@
 // over its whole duration (0.1 s for a 10 Hz lidar) while the robot moves, so a sweep taken while
 // turning at 1 rad/s bends every wall by up to 0.1 rad. Each point is moved to where the sensor
 // would have measured it at the message's stamp, from its own time in the sweep and the sensor's
-// motion over the sweep (from tf through a fixed frame, e.g. wheel odometry, or from a
-// constant-velocity model of the odometry itself).
+// motion over the sweep (from tf through a fixed frame, e.g. wheel odometry, from an IMU's
+// gyroscope, or from a constant-velocity model of the odometry itself).
 //
 // Point times: a sensor_msgs/LaserScan gives them through its time_increment (laser_geometry
 // projects the scan with a per-beam "stamps" channel); a PointCloud2 needs a per-point time
@@ -39,6 +39,10 @@ class SweepMotion {
   // Constant velocity: `motion` of the sensor over `interval` seconds (the last odometry
   // motion, in the sensor frame), scaled to any dt. interval must be > 0.
   static SweepMotion fromVelocity(const rtabmap::Transform& motion, double interval);
+  // The sensor's poses at the first and last point times (in its frame at the stamp), e.g.
+  // turned as an IMU's gyroscope measured; in between, interpolated as fromTf's.
+  static SweepMotion fromEnds(const rtabmap::Transform& atFirst, double firstDt, const rtabmap::Transform& atLast,
+                              double lastDt);
 
   rtabmap::Transform at(double dt) const;
 

@@ -57,6 +57,10 @@ Odometry::~Odometry() = default;
 
 bool Odometry::addImu(double stamp, const IMU& imu) { return gyro_->add(stamp, imu); }
 
+std::optional<Eigen::Matrix3d> Odometry::imuRotationBetween(double t0, double t1) const {
+  return gyro_->rotationBetween(t0, t1);
+}
+
 Odometry::Odometry(const ParametersMap& parameters)
     : parameters_(parameters), gyro_(std::make_unique<odometry_detail::GyroIntegration>()) {
   Parameters::validate(parameters_);

@@ -19,6 +19,7 @@
 
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "rtabmap_core/geometry/IMU.h"
@@ -86,6 +87,10 @@ class Odometry {
   // order, before the frames it comes before. False when it is not used (no angular velocity,
   // not finite, not after the previous one).
   bool addImu(double stamp, const IMU& imu);
+  // The base's rotation from t0 to t1 (expressed at t0) the gyroscope samples given measured
+  // (e.g. over a lidar sweep, for deskewing); none when they do not cover [t0, t1]. Samples
+  // before the last pose's frame are forgotten.
+  std::optional<Eigen::Matrix3d> imuRotationBetween(double t0, double t1) const;
 
   // Restarts from `initialPose` (identity by default) with an empty map.
   void reset(const Transform& initialPose = Transform::Identity());
