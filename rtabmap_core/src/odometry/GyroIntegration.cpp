@@ -41,7 +41,14 @@ std::optional<Eigen::Matrix3d> GyroIntegration::rotationBetween(double t0, doubl
     const Sample& p = samples_[i - 1];
     const Sample& q = samples_[i];
     if (q.stamp <= t0 || p.stamp >= t1) continue;
-    if (q.stamp - p.stamp > maxGap_) return std::nullopt;  // a hole in [t0, t1]
+    if (q.stamp - p.stamp > maxGap_) {
+      // A hole: only its part within [t0, t1] matters; at either end, a short part is covered
+      // by the sample on the inside, as the first and last samples are.
+      const double a = std::max(p.stamp, t0), b = std::min(q.stamp, t1);
+      if (b - a > maxGap_) return std::nullopt;
+      turn(a, b, p.stamp < t0 ? q.angularVelocity : p.angularVelocity);
+      continue;
+    }
     turn(p.stamp, q.stamp, 0.5 * (p.angularVelocity + q.angularVelocity));
   }
   turn(samples_.back().stamp, t1, samples_.back().angularVelocity);

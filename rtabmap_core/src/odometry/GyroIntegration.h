@@ -23,8 +23,8 @@ class GyroIntegration {
   // finite, or not after the previous one.
   bool add(double stamp, const IMU& imu);
   // The rotation of the base from t0 to t1 (expressed at t0), integrated over the samples (the
-  // mean of two consecutive ones over the time between them; the first and last held up to
-  // maxGap beyond the span they cover). None when the samples do not cover [t0, t1].
+  // mean of two consecutive ones over the time between them; at each end of [t0, t1], the
+  // nearest sample inside held up to maxGap). None when the samples do not cover [t0, t1].
   std::optional<Eigen::Matrix3d> rotationBetween(double t0, double t1) const;
   // Forgets the samples no integration from t on needs.
   void dropBefore(double t);

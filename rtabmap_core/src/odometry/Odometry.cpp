@@ -111,12 +111,11 @@ Transform Odometry::reportLost(SensorData& data, OdometryInfo& info) {
   if (info.lostReason.empty()) info.lostReason = "no transform found";
   info.transform = Transform();
   info.covariance = Eigen::Matrix<double, 6, 6>::Identity() * kLostVariance;
-  // The motion model is no longer trustworthy: the next frame registers without prediction.
+  // The motion model is no longer trustworthy: the next frame registers without its prediction.
+  // The IMU's measure of the turn since the last pose (pose_ has not moved) still holds, and
+  // guides the next frame (turning on the spot).
   velocityTransform_ = Transform();
   lastMotion_ = Transform();
-  imuAtPose_ = Transform();
-  stampAtPose_ = 0.0;
-  gyro_->clear();  // a reset may follow ROS time jumping back: older samples come again
   velocityHistory_.clear();
   data.setOdom(Transform(), info.covariance);
   if (resetCountdown_ > 0 && lostCount_ >= resetCountdown_) {

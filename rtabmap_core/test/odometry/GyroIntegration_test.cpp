@@ -64,6 +64,12 @@ TEST(GyroIntegration, IntegratesTheBaseRotationBetweenTwoStamps) {
   ASSERT_TRUE(holed.add(1.2, gyro({0, 0, 1})));
   EXPECT_TRUE(holed.rotationBetween(1.0, 1.01));
   EXPECT_FALSE(holed.rotationBetween(1.0, 1.2)) << "0.19 s without a sample";
+  // Ends within maxGap of a sample inside are covered, holes before or after included.
+  const std::optional<Eigen::Matrix3d> end = holed.rotationBetween(1.17, 1.25);
+  ASSERT_TRUE(end);
+  EXPECT_NEAR(Eigen::AngleAxisd(*end).angle(), 0.08, 1e-9);
+  EXPECT_TRUE(holed.rotationBetween(0.97, 1.005));
+  EXPECT_FALSE(holed.rotationBetween(1.1, 1.19)) << "inside the hole";
 
   // Forgetting the past keeps what the next integration needs.
   g.dropBefore(11.0);

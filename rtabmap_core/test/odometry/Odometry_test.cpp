@@ -355,6 +355,19 @@ TEST(Odometry, GyroscopeSamplesGiveTheGuessItsRotation) {
   odom.process(d, &info);
   EXPECT_FALSE(info.guessFromImu);
   EXPECT_NEAR(info.guess.x(), 0.3, 1e-9);
+
+  // A lost frame drops the velocity, not the gyroscope's measure since the last pose: the frame
+  // after it is guided by the turn alone.
+  odom.answers = {Transform(), Transform(), step};
+  yawRate(1.505, 1.6, 1.0);
+  SensorData e = frameAt(1.6);
+  EXPECT_TRUE(odom.process(e, &info).isNull());
+  yawRate(1.605, 1.7, 1.0);
+  SensorData f = frameAt(1.7);
+  odom.process(f, &info);
+  ASSERT_TRUE(info.guessFromImu);
+  EXPECT_NEAR(info.guess.yaw(), 0.2, 1e-4) << "the turn since frame d, the last pose";
+  EXPECT_NEAR(info.guess.translation().norm(), 0.0, 1e-12);
 }
 
 TEST(Odometry, FactoryAndNames) {
