@@ -186,19 +186,33 @@ void OdometryNodelet::handOverGyroSamples() {
     samples.swap(pendingGyro_);
   }
   for (PendingGyro& g : samples) {
-    auto mount = imuMounts_.find(g.frameId);
-    if (mount == imuMounts_.end()) {
-      std::string why;
-      const rtabmap::Transform local = sensorPose(g.frameId, g.stamp, &why);
-      if (local.isNull()) {
-        if (errors_.due("imu mount")) NODELET_WARN("%s: imu sample not used: %s.", getName().c_str(), why.c_str());
-        continue;
-      }
-      mount = imuMounts_.emplace(g.frameId, local).first;  // a mounting does not move
+    std::string why;
+    g.imu.localTransform = imuMount(g.frameId, g.stamp, &why);
+    if (g.imu.localTransform.isNull()) {
+      if (errors_.due("imu mount")) NODELET_WARN("%s: imu sample not used: %s.", getName().c_str(), why.c_str());
+      continue;
     }
-    g.imu.localTransform = mount->second;
     odometry_->addImu(g.stamp.toSec(), g.imu);
   }
+}
+
+rtabmap::Transform OdometryNodelet::imuMount(const std::string& frameId, const ros::Time& stamp, std::string* why) {
+  auto known = imuMounts_.find(frameId);
+  if (known != imuMounts_.end()) return known->second;  // a mounting does not move
+  // Each lookup may wait wait_for_transform_duration: one try a second, not one per sample.
+  const ros::WallTime now = ros::WallTime::now();
+  auto failed = imuMountFailures_.find(frameId);
+  if (failed != imuMountFailures_.end() && (now - failed->second).toSec() < 1.0) {
+    if (why) *why = "no tf from " + frameId + " to " + frameId_ + " yet";
+    return rtabmap::Transform();
+  }
+  const rtabmap::Transform local = sensorPose(frameId, stamp, why);
+  if (local.isNull()) {
+    imuMountFailures_[frameId] = now;
+    return local;
+  }
+  imuMountFailures_.erase(frameId);
+  return imuMounts_.emplace(frameId, local).first->second;
 }
 
 bool OdometryNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp) {
@@ -209,7 +223,7 @@ bool OdometryNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros
       imuOrientations_.empty()
           ? std::nullopt
           : imuOrientations_.imuAt(
-                stamp.toSec(), [&](const std::string& frameId, std::string* e) { return sensorPose(frameId, stamp, e); },
+                stamp.toSec(), [&](const std::string& frameId, std::string* e) { return imuMount(frameId, stamp, e); },
                 &why);
   if (imu) {
     frame.setIMU(*imu);
@@ -232,7 +246,7 @@ void OdometryNodelet::onData(const rtabmap_sync::SyncedData& d) {
     NODELET_WARN("%s: ROS time jumped back; odometry restarts at the origin.", getName().c_str());
     resetLocked(rtabmap::Transform::Identity());
     imuOrientations_.clear();
-    std::lock_guard<std::mutex> lock(gyroMutex_);
+    std::lock_guard<std::mutex> gyroLock(gyroMutex_);
     pendingGyro_.clear();
   }
   const ros::Time stamp = d.stamp;
