@@ -176,7 +176,10 @@ void OdometryNodelet::onImu(const sensor_msgs::ImuConstPtr& msg) {
   const std::optional<rtabmap::IMU> imu = rtabmap_conversions::imuFromMsg(*msg);
   if (!imu || imu->angularVelocity.isZero(0.0)) return;
   std::lock_guard<std::mutex> lock(gyroMutex_);
-  if (pendingGyro_.size() < kMaxPendingGyro) pendingGyro_.push_back({msg->header.stamp, msg->header.frame_id, *imu});
+  if (pendingGyro_.size() >= kMaxPendingGyro) {  // no frame for seconds (paused): the newest matter
+    pendingGyro_.erase(pendingGyro_.begin(), pendingGyro_.begin() + kMaxPendingGyro / 2);
+  }
+  pendingGyro_.push_back({msg->header.stamp, msg->header.frame_id, *imu});
 }
 
 void OdometryNodelet::handOverGyroSamples() {

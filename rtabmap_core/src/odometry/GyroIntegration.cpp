@@ -22,6 +22,7 @@ bool GyroIntegration::add(double stamp, const IMU& imu) {
   const Eigen::Matrix3d baseImu =
       imu.localTransform.isNull() ? Eigen::Matrix3d::Identity() : imu.localTransform.rotationMatrix();
   samples_.push_back({stamp, baseImu * imu.angularVelocity});
+  while (samples_.front().stamp < stamp - keep_) samples_.pop_front();
   return true;
 }
 

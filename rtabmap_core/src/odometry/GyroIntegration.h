@@ -16,7 +16,8 @@ class GyroIntegration {
  public:
   // maxGap: samples farther apart than this (s) do not cover the time between them (the IMU
   // stopped or its messages were lost), nor does a sample cover more than this beyond itself.
-  explicit GyroIntegration(double maxGap = 0.05) : maxGap_(maxGap) {}
+  // keep: history kept behind the newest sample (s), however long odometry stays lost.
+  explicit GyroIntegration(double maxGap = 0.05, double keep = 10.0) : maxGap_(maxGap), keep_(keep) {}
 
   // A raw sample: its angular velocity (rad/s, in the IMU's frame) brought to the base through
   // IMU::localTransform. False (nothing kept) for a sample without an angular velocity, not
@@ -37,7 +38,7 @@ class GyroIntegration {
     double stamp;
     Eigen::Vector3d angularVelocity;  // base frame
   };
-  double maxGap_;
+  double maxGap_, keep_;
   std::deque<Sample> samples_;  // by increasing stamp
 };
 

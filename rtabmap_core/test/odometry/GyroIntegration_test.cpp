@@ -77,6 +77,15 @@ TEST(GyroIntegration, IntegratesTheBaseRotationBetweenTwoStamps) {
   EXPECT_FALSE(g.rotationBetween(10.5, 11.5));
 }
 
+// Odometry lost for minutes adds samples without a pose to drop them at: the history stays bounded.
+TEST(GyroIntegration, HistoryIsBounded) {
+  GyroIntegration g(0.05, 10.0);
+  for (int i = 0; i < 200 * 60; ++i) ASSERT_TRUE(g.add(i * 0.005, gyro({0, 0, 0.1})));
+  EXPECT_LE(g.size(), 2002u);
+  EXPECT_TRUE(g.rotationBetween(55.0, 59.0));
+  EXPECT_FALSE(g.rotationBetween(40.0, 59.0)) << "forgotten";
+}
+
 TEST(GyroIntegration, UnusableSamplesAreRefused) {
   GyroIntegration g;
   EXPECT_FALSE(g.add(1.0, gyro({0, 0, 0}))) << "no angular velocity (an orientation-only message)";
