@@ -67,7 +67,8 @@ ImuOrientationBuffer::Intake ImuOrientationBuffer::add(const sensor_msgs::Imu& m
   return add({msg.header.stamp.toSec(), imu->orientation, msg.header.frame_id}, why) ? Intake::kKept : Intake::kRefused;
 }
 
-std::optional<rtabmap::IMU> ImuOrientationBuffer::imuAt(double stamp, const LocalPoseOf& localOf, std::string* why) const {
+std::optional<rtabmap::IMU> ImuOrientationBuffer::imuAt(double stamp, const LocalPoseOf& localOf,
+                                                        std::string* why) const {
   const std::optional<ImuOrientation> sample = at(stamp);
   if (!sample) {
     if (why) {

@@ -616,7 +616,8 @@ long OccupancyGrid::Impl::reassembleDirtyTiles(const std::vector<int>& replay, c
     const uint32_t key = cache.at(id).layerKey;
     const bool open = everyTileDirty && (noLayerRestored || key >= capture);
     updates += storage.apply(n, target.at(id), !open, &tiles, key);
-    if (retiled.count(id)) tilesOf[id] = maps_detail::TileSet(tiles);  // every dirty tile is open to it: all of its tiles
+    // Every dirty tile is open to a retiled node: `tiles` are all of its tiles.
+    if (retiled.count(id)) tilesOf[id] = maps_detail::TileSet(tiles);
   };
   const int notLoaded = s.nodesNotLoaded;
   withCells(intoLayers, s, [&](int id, const NodeCells& n) {

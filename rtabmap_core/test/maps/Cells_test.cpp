@@ -156,7 +156,8 @@ TEST(Cells, TileRunsGiveBackTheSameTileKeys) {
   EXPECT_EQ(set.runs(), 4u * 2u + 1u + 1u);
   EXPECT_LT(set.bytes(), keys.size() * sizeof(int64_t) / 2);
   for (int64_t k : keys) {
-    EXPECT_EQ(maps_detail::tileKey(maps_detail::tileCol(k) * maps_detail::kTile, maps_detail::tileRow(k) * maps_detail::kTile), k);
+    const int col = maps_detail::tileCol(k) * maps_detail::kTile, row = maps_detail::tileRow(k) * maps_detail::kTile;
+    EXPECT_EQ(maps_detail::tileKey(col, row), k) << "the key of the tile's first cell";
   }
 
   int asked = 0;

@@ -49,8 +49,9 @@
 // database), evictLocalGrid() drops a node's cells from RAM when it leaves the Working Memory;
 // what deciding a re-assembly needs (bounds, cell count, the tiles it was applied to) stays,
 // about 100 bytes a node besides the pose it is assembled at. A re-assembly reads the cells of
-// the evicted nodes it replays back in batches. The cells of the evicted nodes used last (just evicted, or read back) stay in RAM up
-// to a fixed budget (GridGlobal/LtmCacheSize, 4 MB: ~1,200 nodes of a 30 m laser).
+// the evicted nodes it replays back in batches. The cells of the evicted nodes used last (just
+// evicted, or read back) stay in RAM up to a fixed budget (GridGlobal/LtmCacheSize, 4 MB:
+// ~1,200 nodes of a 30 m laser).
 //
 // Long-Term Memory layers. After hours in the same building a tile is covered by hundreds of
 // old nodes, all in the LTM, and every re-assembly of it (a loop closure moving the few Working
