@@ -67,6 +67,30 @@ ImuOrientationBuffer::Intake ImuOrientationBuffer::add(const sensor_msgs::Imu& m
   return add({msg.header.stamp.toSec(), imu->orientation, msg.header.frame_id}, why) ? Intake::kKept : Intake::kRefused;
 }
 
+rtabmap::Transform ImuOrientationBuffer::mountOf(const std::string& frameId, const LocalPoseOf& localOf,
+                                                 std::string* why) const {
+  const auto now = std::chrono::steady_clock::now();
+  {
+    std::lock_guard<std::mutex> lock(mountMutex_);
+    auto known = mounts_.find(frameId);
+    if (known != mounts_.end()) return known->second;
+    auto failed = mountFailures_.find(frameId);
+    if (failed != mountFailures_.end() && now - failed->second < std::chrono::seconds(1)) {
+      if (why) *why = "no pose on the robot for the imu frame \"" + frameId + "\" yet (tf asked again each second)";
+      return rtabmap::Transform();
+    }
+  }
+  const rtabmap::Transform local = localOf(frameId, why);
+  std::lock_guard<std::mutex> lock(mountMutex_);
+  if (local.isNull()) {
+    mountFailures_[frameId] = now;
+  } else {
+    mountFailures_.erase(frameId);
+    mounts_.emplace(frameId, local);
+  }
+  return local;
+}
+
 std::optional<rtabmap::IMU> ImuOrientationBuffer::imuAt(double stamp, const LocalPoseOf& localOf,
                                                         std::string* why) const {
   const std::optional<ImuOrientation> sample = at(stamp);
@@ -79,7 +103,7 @@ std::optional<rtabmap::IMU> ImuOrientationBuffer::imuAt(double stamp, const Loca
     return std::nullopt;
   }
   // The IMU's pose on the robot: the orientation is the IMU frame's, not the base's.
-  const rtabmap::Transform local = localOf(sample->frameId, why);
+  const rtabmap::Transform local = mountOf(sample->frameId, localOf, why);
   if (local.isNull()) return std::nullopt;
   rtabmap::IMU imu;
   imu.orientation = sample->orientation;

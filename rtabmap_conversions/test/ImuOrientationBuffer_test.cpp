@@ -128,5 +128,33 @@ TEST(ImuOrientationBuffer, AFrameGetsTheImuAtItsStampWithItsMount) {
   EXPECT_EQ(why, "no tf for imu_unknown");
 }
 
+// The mounting is asked of tf once and kept; a frame tf does not know yet is asked again only
+// after a second (each lookup may wait for tf).
+TEST(ImuOrientationBuffer, TheMountIsLookedUpOnceAndFailuresAreNotRetriedAtEverySample) {
+  ImuOrientationBuffer b;
+  ASSERT_TRUE(b.add(sample(1.0, 0.0)));
+  ASSERT_TRUE(b.add(sample(1.05, 0.0)));
+  int asked = 0;
+  bool known = false;
+  const rtabmap::Transform mount(0.1, 0.0, 0.2, M_PI, 0.0, 0.0);
+  auto localOf = [&](const std::string&, std::string* why) {
+    ++asked;
+    if (known) return mount;
+    if (why) *why = "no tf yet";
+    return rtabmap::Transform();
+  };
+  std::string why;
+  EXPECT_FALSE(b.imuAt(1.0, localOf, &why));
+  EXPECT_EQ(why, "no tf yet");
+  known = true;
+  EXPECT_FALSE(b.imuAt(1.01, localOf, &why)) << "not asked again within a second";
+  EXPECT_NE(why.find("imu_link"), std::string::npos) << why;
+  EXPECT_EQ(asked, 1);
+  EXPECT_FALSE(b.mountOf("imu_other", localOf).isNull());
+  EXPECT_EQ(asked, 2) << "another frame is asked at once";
+  EXPECT_EQ(b.mountOf("imu_other", localOf), mount);
+  EXPECT_EQ(asked, 2) << "kept once found";
+}
+
 }  // namespace
 }  // namespace rtabmap_conversions

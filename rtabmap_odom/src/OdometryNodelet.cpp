@@ -190,32 +190,14 @@ void OdometryNodelet::handOverGyroSamples() {
   }
   for (PendingGyro& g : samples) {
     std::string why;
-    g.imu.localTransform = imuMount(g.frameId, g.stamp, &why);
+    g.imu.localTransform = imuOrientations_.mountOf(
+        g.frameId, [&](const std::string& frameId, std::string* e) { return sensorPose(frameId, g.stamp, e); }, &why);
     if (g.imu.localTransform.isNull()) {
       if (errors_.due("imu mount")) NODELET_WARN("%s: imu sample not used: %s.", getName().c_str(), why.c_str());
       continue;
     }
     odometry_->addImu(g.stamp.toSec(), g.imu);
   }
-}
-
-rtabmap::Transform OdometryNodelet::imuMount(const std::string& frameId, const ros::Time& stamp, std::string* why) {
-  auto known = imuMounts_.find(frameId);
-  if (known != imuMounts_.end()) return known->second;  // a mounting does not move
-  // Each lookup may wait wait_for_transform_duration: one try a second, not one per sample.
-  const ros::WallTime now = ros::WallTime::now();
-  auto failed = imuMountFailures_.find(frameId);
-  if (failed != imuMountFailures_.end() && (now - failed->second).toSec() < 1.0) {
-    if (why) *why = "no tf from " + frameId + " to " + frameId_ + " yet";
-    return rtabmap::Transform();
-  }
-  const rtabmap::Transform local = sensorPose(frameId, stamp, why);
-  if (local.isNull()) {
-    imuMountFailures_[frameId] = now;
-    return local;
-  }
-  imuMountFailures_.erase(frameId);
-  return imuMounts_.emplace(frameId, local).first->second;
 }
 
 bool OdometryNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp) {
@@ -226,7 +208,7 @@ bool OdometryNodelet::attachImuOrientation(rtabmap::SensorData& frame, const ros
       imuOrientations_.empty()
           ? std::nullopt
           : imuOrientations_.imuAt(
-                stamp.toSec(), [&](const std::string& frameId, std::string* e) { return imuMount(frameId, stamp, e); },
+                stamp.toSec(), [&](const std::string& frameId, std::string* e) { return sensorPose(frameId, stamp, e); },
                 &why);
   if (imu) {
     frame.setIMU(*imu);

@@ -37,7 +37,6 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -125,8 +124,6 @@ class OdometryNodelet : public nodelet::Nodelet {
   bool attachImuOrientation(rtabmap::SensorData& frame, const ros::Time& stamp);
   // Gives the odometry the angular velocities received since the last frame (mutex_ held).
   void handOverGyroSamples();
-  // The IMU frame's pose on the base from tf, kept once found (mutex_ held); null with why.
-  rtabmap::Transform imuMount(const std::string& frameId, const ros::Time& stamp, std::string* why);
 
   const bool lidar_;
   std::string frameId_ = "base_link";
@@ -165,8 +162,6 @@ class OdometryNodelet : public nodelet::Nodelet {
   static constexpr size_t kMaxPendingGyro = 2000;  // 5 s at 400 Hz: odometry stopped or paused
   std::mutex gyroMutex_;
   std::vector<PendingGyro> pendingGyro_;  // onImu -> the next frame
-  std::map<std::string, rtabmap::Transform> imuMounts_;  // IMU frame -> its pose on the base
-  std::map<std::string, ros::WallTime> imuMountFailures_;  // IMU frame -> last lookup that failed
   rtabmap_sync::LogThrottle imuWarnings_;  // onImu's own (never called concurrently with itself)
   ros::Subscriber imuSub_;  // after what onImu uses: shut down before they go
   rtabmap_sync::DataSubscriber subscriber_;  // last: its callbacks stop before the rest goes

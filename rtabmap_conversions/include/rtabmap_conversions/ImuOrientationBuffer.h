@@ -8,8 +8,10 @@
 // run at once.
 #include <Eigen/Geometry>
 
+#include <chrono>
 #include <deque>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -45,10 +47,13 @@ class ImuOrientationBuffer {
   // A message of the topic: kept, without an orientation (a raw IMU: nothing to keep), or
   // refused (not finite, out of order; why says it).
   Intake add(const sensor_msgs::Imu& msg, std::string* why = nullptr);
-  // The IMU a frame at `stamp` carries: the orientation there with the IMU frame's pose on the
-  // robot, localOf(frameId, why) (a tf lookup; null when unknown). None, with why, when either
-  // is missing.
+  // The IMU frame's pose on the robot: localOf(frameId, why)'s (a tf lookup; null when unknown),
+  // kept once found (a mounting does not move). After a failure localOf is asked again at most
+  // once a second: each lookup may wait for tf, and samples come at hundreds of Hz.
   using LocalPoseOf = std::function<rtabmap::Transform(const std::string& frameId, std::string* why)>;
+  rtabmap::Transform mountOf(const std::string& frameId, const LocalPoseOf& localOf, std::string* why = nullptr) const;
+  // The IMU a frame at `stamp` carries: the orientation there with its frame's mountOf(). None,
+  // with why, when either is missing.
   std::optional<rtabmap::IMU> imuAt(double stamp, const LocalPoseOf& localOf, std::string* why = nullptr) const;
   bool empty() const;
   void clear();  // ROS time jumped back (a restarted bag): older stamps come again
@@ -57,6 +62,9 @@ class ImuOrientationBuffer {
   double keep_, maxGap_;
   mutable std::mutex mutex_;
   std::deque<ImuOrientation> samples_;  // by increasing stamp
+  mutable std::mutex mountMutex_;  // not held while localOf looks tf up
+  mutable std::map<std::string, rtabmap::Transform> mounts_;
+  mutable std::map<std::string, std::chrono::steady_clock::time_point> mountFailures_;  // the last one
 };
 
 }  // namespace rtabmap_conversions
