@@ -172,8 +172,8 @@ class ImuOdometry(unittest.TestCase):
                 continue
             guess = oc.matrix(cur.guessVelocity.translation, g)[:3, :3]
             want = a.T @ b
-            errors.append(np.linalg.norm(rotation_vector(guess.T @ want)))
-            turns.append(np.linalg.norm(rotation_vector(want)))
+            errors.append(oc.angle(guess.T @ want))
+            turns.append(oc.angle(want))
         self.assertGreaterEqual(len(errors), 0.8 * len(tracked), f"{len(errors)} guesses for {len(tracked)} frames")
         p90 = float(np.percentile(errors, 90))
         print(f"{mode}: {len(errors)} guesses, rotation error median {np.median(errors):.5f} p90 {p90:.5f} rad; "

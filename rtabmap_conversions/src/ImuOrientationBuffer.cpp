@@ -57,9 +57,11 @@ std::optional<ImuOrientation> ImuOrientationBuffer::at(double stamp) const {
   return out;
 }
 
-ImuOrientationBuffer::Intake ImuOrientationBuffer::add(const sensor_msgs::Imu& msg, std::string* why) {
+ImuOrientationBuffer::Intake ImuOrientationBuffer::add(const sensor_msgs::Imu& msg, std::string* why,
+                                                       rtabmap::IMU* converted) {
   const std::optional<rtabmap::IMU> imu = imuFromMsg(msg, rtabmap::Transform::Identity(), why);
   if (!imu) return Intake::kRefused;
+  if (converted) *converted = *imu;
   if (!imu->hasOrientation()) {
     if (why) *why = "the message has no orientation (a raw IMU: put a filter such as imu_filter_madgwick before it)";
     return Intake::kNoOrientation;

@@ -17,7 +17,6 @@
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/odometry/OdometryF2M.h"
 #include "rtabmap_core/odometry/OdometryS2M.h"
-#include "rtabmap_conversions/ImuConversions.h"
 #include "rtabmap_odom/NodeParameters.h"
 #include "rtabmap_odom/PrivateParameters.h"
 
@@ -167,19 +166,19 @@ rtabmap::Transform OdometryNodelet::guessMotion(const ros::Time& stamp, rtabmap:
 
 void OdometryNodelet::onImu(const sensor_msgs::ImuConstPtr& msg) {
   std::string why;
-  if (imuOrientations_.add(*msg, &why) == rtabmap_conversions::ImuOrientationBuffer::Intake::kRefused) {
+  rtabmap::IMU imu;
+  if (imuOrientations_.add(*msg, &why, &imu) == rtabmap_conversions::ImuOrientationBuffer::Intake::kRefused) {
     if (imuWarnings_.due("imu")) NODELET_WARN("%s: imu message ignored: %s.", getName().c_str(), why.c_str());
     return;
   }
   // Its angular velocity too, for the guess when the frames have no orientation: handed to the
   // odometry by the next frame (this callback does not wait for an update to end).
-  const std::optional<rtabmap::IMU> imu = rtabmap_conversions::imuFromMsg(*msg);
-  if (!imu || imu->angularVelocity.isZero(0.0)) return;
+  if (imu.angularVelocity.isZero(0.0)) return;
   std::lock_guard<std::mutex> lock(gyroMutex_);
   if (pendingGyro_.size() >= kMaxPendingGyro) {  // no frame for seconds (paused): the newest matter
     pendingGyro_.erase(pendingGyro_.begin(), pendingGyro_.begin() + kMaxPendingGyro / 2);
   }
-  pendingGyro_.push_back({msg->header.stamp, msg->header.frame_id, *imu});
+  pendingGyro_.push_back({msg->header.stamp, msg->header.frame_id, imu});
 }
 
 void OdometryNodelet::handOverGyroSamples() {

@@ -45,8 +45,9 @@ class ImuOrientationBuffer {
 
   enum class Intake { kKept, kNoOrientation, kRefused };
   // A message of the topic: kept, without an orientation (a raw IMU: nothing to keep), or
-  // refused (not finite, out of order; why says it).
-  Intake add(const sensor_msgs::Imu& msg, std::string* why = nullptr);
+  // refused (not finite, out of order; why says it). `converted` (optional) receives the message
+  // as a core IMU unless it is refused, for a caller that uses its angular velocity too.
+  Intake add(const sensor_msgs::Imu& msg, std::string* why = nullptr, rtabmap::IMU* converted = nullptr);
   // The IMU frame's pose on the robot: localOf(frameId, why)'s (a tf lookup; null when unknown),
   // kept once found (a mounting does not move). After a failure localOf is asked again at most
   // once a second: each lookup may wait for tf, and samples come at hundreds of Hz.
