@@ -97,6 +97,11 @@ float LinkRegistration::icpReach() const {
   return o ? o->maxCorrespondenceDistance : 0.0f;
 }
 
+float LinkRegistration::icpVoxelSize() const {
+  const IcpOptions* o = icp_ ? &icp_->options() : visualIcp_ ? &visualIcp_->icp().options() : nullptr;
+  return o ? o->voxelSize : 0.0f;
+}
+
 Link::InfMatrix informationOf(const Eigen::Matrix<double, 6, 6>& covariance, bool diagonalOnly) {
   Eigen::Matrix<double, 6, 6> c = covariance;
   if (diagonalOnly || !c.allFinite()) c = Eigen::Matrix<double, 6, 6>(c.diagonal().asDiagonal());

@@ -34,6 +34,8 @@ class LinkRegistration {
   float minComplexity() const;
   // Icp/MaxCorrespondenceDistance: how far from its guess ICP can pull a scan (0 without ICP).
   float icpReach() const;
+  // Icp/VoxelSize (0 without ICP).
+  float icpVoxelSize() const;
 
   // Pose of `to`'s base in `from`'s base (to = from * T), null with info->rejectedMsg on
   // failure. `guess` null = none (ICP alone then refuses: it only refines a guess; a visual

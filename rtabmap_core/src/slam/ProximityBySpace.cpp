@@ -64,11 +64,21 @@ std::vector<Eigen::Vector2f> pointsInBase2d(const LaserScan& scan) {
   return out;
 }
 
-// The ICP guess of a merged-scan proximity link found by correlative scan matching within
-// RGBD/ProximityCorrelativeWindow of the graph's guess (pose of the new scan in the nearest
-// node's frame); null with the reason when no pose scores RGBD/ProximityCorrelativeMinScore.
-Transform correlativeGuess(const LaserScan& merged, const LaserScan& scan, const Transform& guess,
-                           const RtabmapOptions& o, float window, std::string* why) {
+// Position sigma, relative to the new node, of the nodes the graph knows well enough to narrow
+// the correlative window (the others get the whole window).
+std::map<int, double> sigmasForWindow(const memory::Memory& memory, int currentId, const RtabmapOptions& o) {
+  if (o.proximityCorrelativeWindow <= 0.0f || o.proximityCorrelativeSigmas <= 0.0f) return {};
+  const double limit = o.proximityCorrelativeWindow / o.proximityCorrelativeSigmas;
+  return graphPositionSigmas(currentId, limit, [&memory](int id) -> const std::multimap<int, Link>* {
+    const Signature* s = memory.inRam(id) ? memory.signature(id) : nullptr;
+    return s ? &s->getLinks() : nullptr;
+  });
+}
+
+}  // namespace
+
+Transform correlativeProximityGuess(const LaserScan& merged, const LaserScan& scan, const Transform& guess,
+                                    const RtabmapOptions& o, float window, std::string* why) {
   CorrelativeOptions c;
   c.resolution = o.proximityCorrelativeResolution;
   c.linearWindow = window;
@@ -83,19 +93,6 @@ Transform correlativeGuess(const LaserScan& merged, const LaserScan& scan, const
   }
   return Transform(r.pose.x(), r.pose.y(), 0.0f, 0.0f, 0.0f, r.pose.z());
 }
-
-// Position sigma, relative to the new node, of the nodes the graph knows well enough to narrow
-// the correlative window (the others get the whole window).
-std::map<int, double> sigmasForWindow(const memory::Memory& memory, int currentId, const RtabmapOptions& o) {
-  if (o.proximityCorrelativeWindow <= 0.0f || o.proximityCorrelativeSigmas <= 0.0f) return {};
-  const double limit = o.proximityCorrelativeWindow / o.proximityCorrelativeSigmas;
-  return graphPositionSigmas(currentId, limit, [&memory](int id) -> const std::multimap<int, Link>* {
-    const Signature* s = memory.inRam(id) ? memory.signature(id) : nullptr;
-    return s ? &s->getLinks() : nullptr;
-  });
-}
-
-}  // namespace
 
 std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates) {
   std::vector<std::vector<int>> paths;
@@ -202,7 +199,7 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     Transform inv = guess.inverse();  // pose of the current node in the nearest node's frame
     if (correlative && merged.is2d() && scan.is2d()) {
       std::string why;
-      inv = correlativeGuess(merged, scan, inv, o, window, &why);
+      inv = correlativeProximityGuess(merged, scan, inv, o, window, &why);
       if (inv.isNull()) {
         result.rejections.push_back("scan proximity " + std::to_string(currentId) + "->" + std::to_string(nearest) +
                                     ": " + why);

@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "rtabmap_core/geometry/LaserScan.h"
 #include "rtabmap_core/geometry/Transform.h"
 #include "rtabmap_core/memory/Link.h"
 #include "rtabmap_core/slam/RtabmapOptions.h"
@@ -63,6 +64,13 @@ struct ProximityResult {
 ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, const std::map<int, Transform>& poses,
                                        const RtabmapOptions& options, const LinkRegistration& registration,
                                        bool covOffDiagIgnored);
+
+// The ICP guess of a merged-scan match (2D) found by correlative scan matching within `window`
+// (m) of `guess`, the pose of `scan` in `merged`'s frame (RGBD/ProximityCorrelative*); null with
+// the reason when no pose scores RGBD/ProximityCorrelativeMinScore or a distant rival scores
+// RGBD/ProximityCorrelativeMaxPeakRatio of the best.
+Transform correlativeProximityGuess(const LaserScan& merged, const LaserScan& scan, const Transform& guess,
+                                    const RtabmapOptions& options, float window, std::string* why);
 
 // Paths of step 2, for tests: candidate ids grouped by neighbour links, most recent first.
 std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates);

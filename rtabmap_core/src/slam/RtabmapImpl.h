@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "GlobalScanMap.h"
 #include "LinkRegistration.h"
 #include "MergeArbiter.h"
 #include "OdometryCache.h"
@@ -97,6 +98,9 @@ struct Rtabmap::Impl {
   Covariance6 cacheMotion = Covariance6::Zero();
   Transform initialLocalizationPose;  // last pose of the saved map (RGBD/StartAtOrigin false)
   Transform initialPose;              // given by the user, applied at the next update (null: none)
+  // RGBD/ProximityGlobalScanMap: built at the first localization update that needs it (the map
+  // does not change in localization mode).
+  std::unique_ptr<GlobalScanMap> globalScanMap;
   std::map<int, std::string> labelCache;
   // Multi-session: the links this process added between the current map and earlier ones, and
   // the vote on whether they merged it at the right place.
@@ -120,6 +124,9 @@ struct Rtabmap::Impl {
   void loadExistingMap();
   void loadWorkingMemory(const std::vector<int>& allIds);
   void loadLocalGrids(const std::vector<int>& ids);
+  // RGBD/ProximityGlobalScanMap: the scans of every node of the current referential but
+  // `excludedId` (the temporary localization node), from RAM or the database.
+  void buildGlobalScanMap(int excludedId);
   void close();
   void startNewMap();
 

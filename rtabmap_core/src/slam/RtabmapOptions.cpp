@@ -59,6 +59,8 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.proximityCorrelativeResolution = P::getFloat(p, P::kRGBDProximityCorrelativeResolution());
   o.proximityCorrelativeMaxPeakRatio = P::getFloat(p, P::kRGBDProximityCorrelativeMaxPeakRatio());
   o.proximityCorrelativeSigmas = P::getFloat(p, P::kRGBDProximityCorrelativeSigmas());
+  o.proximityGlobalScanMap = P::getBool(p, P::kRGBDProximityGlobalScanMap());
+  o.proximityGlobalScanMapMinRatio = P::getFloat(p, P::kRGBDProximityGlobalScanMapMinRatio());
   o.optimizeMaxError = P::getFloat(p, P::kRGBDOptimizeMaxError());
   o.optimizeFromGraphEnd = P::getBool(p, P::kRGBDOptimizeFromGraphEnd());
   o.maxLoopClosureDistance = P::getFloat(p, P::kRGBDMaxLoopClosureDistance());
@@ -85,6 +87,9 @@ bool RtabmapOptions::IsValid(std::string* why) const {
     return fail("RGBD/ProximityPathMaxNeighbors, RGBD/ProximityMaxPaths and RGBD/ProximityMaxGraphDepth must be >= 0");
   }
   if (!(proximityMergedScanCovFactor > 0.0)) return fail(Parameters::kRGBDProximityMergedScanCovFactor() + " must be > 0");
+  if (!(proximityGlobalScanMapMinRatio >= 0.0f && proximityGlobalScanMapMinRatio <= 1.0f)) {
+    return fail(Parameters::kRGBDProximityGlobalScanMapMinRatio() + " must be in [0, 1]");
+  }
   if (!(proximityCorrelativeWindow >= 0.0f) || !(proximityCorrelativeSigmas >= 0.0f) ||
       !(proximityCorrelativeResolution > 0.0f) || !(proximityCorrelativeAngle >= 0.0f)) {
     return fail("RGBD/ProximityCorrelativeWindow, RGBD/ProximityCorrelativeSigmas and RGBD/ProximityCorrelativeAngle "

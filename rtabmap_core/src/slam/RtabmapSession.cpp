@@ -1,6 +1,7 @@
 // Rtabmap sessions: opening a map (new or existing: multi-session, IROS 2014), the Working
 // Memory it starts with, new maps, closing.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 
 #include "RtabmapImpl.h"
@@ -143,6 +144,42 @@ void Rtabmap::Impl::loadLocalGrids(const std::vector<int>& ids) {
       if (!detector->memory().signature(s.id())) grid->evictLocalGrid(s.id());
     }
   }
+}
+
+void Rtabmap::Impl::buildGlobalScanMap(int excludedId) {
+  const auto start = std::chrono::steady_clock::now();
+  memory::Memory& memory = detector->memory();
+  std::map<int, Transform> poses = graph.posesOfGroup(mapId);
+  poses.erase(excludedId);
+  globalScanMap = std::make_unique<GlobalScanMap>(registration->icpVoxelSize());
+  globalScanMap->setNodes(poses);
+  std::vector<std::pair<LaserScan, Transform>> parts;
+  std::vector<int> inDatabase;
+  for (const auto& [id, pose] : poses) {
+    if (Signature* s = memory.mutableSignature(id)) {
+      parts.emplace_back(scanOf(*s), pose);
+    } else {
+      inDatabase.push_back(id);
+    }
+  }
+  globalScanMap->add(parts);
+  db::LoadOptions scanOnly = db::LoadOptions::nodeOnly();
+  scanOnly.scan = true;
+  constexpr size_t kBatch = 256;  // the raw points of one batch at a time (3D lidars)
+  for (size_t i = 0; db && i < inDatabase.size(); i += kBatch) {
+    const std::vector<int> batch(inDatabase.begin() + i, inDatabase.begin() + std::min(inDatabase.size(), i + kBatch));
+    parts.clear();
+    for (Signature& s : db->loadNodes(batch, scanOnly)) parts.emplace_back(scanOf(s), poses.at(s.id()));
+    globalScanMap->add(parts);
+  }
+  globalScanMap->finish();
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  RTABMAP_INFO("global scan map (" << Parameters::kRGBDProximityGlobalScanMap() << "): " << globalScanMap->points()
+                                   << " points from " << poses.size() << " nodes (" << inDatabase.size()
+                                   << " read from the database) in " << ms << " ms"
+                                   << (globalScanMap->skippedParts() ? ", scans of another format skipped: " +
+                                                                           std::to_string(globalScanMap->skippedParts())
+                                                                     : std::string()));
 }
 
 void Rtabmap::Impl::startNewMap() {

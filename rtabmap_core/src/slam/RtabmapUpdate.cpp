@@ -389,10 +389,24 @@ bool Rtabmap::Impl::localizationUpdate(const SensorData& data, const Transform& 
     // The temporary node is linked to nothing: a graph depth from it would leave no candidate.
     // The local radius around the estimate (last localisation or the user's initial pose,
     // moved by odometry) bounds the search instead.
-    RtabmapOptions unlinked = options;
-    unlinked.proximityMaxGraphDepth = 0;
-    ProximityResult p = detectProximityBySpace(memory, tempId, ramPosesOfGroup(), unlinked, *registration,
-                                               options.covOffDiagIgnored);
+    const bool global = options.proximityGlobalScanMap && registration->usesScans();
+    if (global && !globalScanMap) buildGlobalScanMap(tempId);
+    ProximityResult p;
+    if (global && !globalScanMap->empty()) {
+      p = localizeOnGlobalScanMap(memory, tempId, estimate, *globalScanMap, options, *registration,
+                                  options.covOffDiagIgnored);
+    } else {
+      RtabmapOptions unlinked = options;
+      unlinked.proximityMaxGraphDepth = 0;
+      p = detectProximityBySpace(memory, tempId, ramPosesOfGroup(), unlinked, *registration,
+                                 options.covOffDiagIgnored);
+    }
+    for (const std::string& why : p.rejections) RTABMAP_DEBUG(why);
+    stats.addStatistic(Statistics::kProximitySpace_paths, static_cast<float>(p.paths));
+    stats.addStatistic(Statistics::kProximitySpace_visual_paths_checked, static_cast<float>(p.visualChecked));
+    stats.addStatistic(Statistics::kProximitySpace_scan_paths_checked, static_cast<float>(p.scanChecked));
+    stats.addStatistic(Statistics::kProximitySpace_detections_added_visually, static_cast<float>(p.addedVisually));
+    stats.addStatistic(Statistics::kProximitySpace_detections_added_icp_multi, static_cast<float>(p.addedByScans));
     found = p.links;
   }
   lastNodeOdom = odom;

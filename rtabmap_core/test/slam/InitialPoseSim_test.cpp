@@ -33,7 +33,7 @@ std::vector<Frame> laserFrames(const std::string& folder) {
   return frames;
 }
 
-ParametersMap laserParameters(bool mapping) {
+ParametersMap laserParameters(bool mapping, bool globalScanMap = false) {
   ParametersMap p = test::simSlamParameters();
   p["Reg/Strategy"] = "1";        // ICP
   p["Kp/MaxFeatures"] = "-1";     // no visual words
@@ -42,6 +42,7 @@ ParametersMap laserParameters(bool mapping) {
   // is in the database only, and comes back because it is near the assumed pose.
   p["Rtabmap/MemoryThr"] = "30";
   p["Mem/IncrementalMemory"] = mapping ? "true" : "false";
+  p["RGBD/ProximityGlobalScanMap"] = globalScanMap ? "true" : "false";
   return p;
 }
 
@@ -53,9 +54,10 @@ struct Update {
 
 // Localization from frame `first` on (odometry restarted there), `updates` updates.
 std::vector<Update> localize(const std::vector<Frame>& frames, size_t first, int updates, const std::string& db,
-                             const Transform& mapFromWorld, const Transform& initialPose, SlamSummary* summary) {
+                             const Transform& mapFromWorld, const Transform& initialPose, SlamSummary* summary,
+                             bool globalScanMap = false) {
   Rtabmap slam;
-  slam.init(laserParameters(false), db);
+  slam.init(laserParameters(false, globalScanMap), db);
   if (!initialPose.isNull()) {
     EXPECT_TRUE(slam.setInitialPose(initialPose));
   }
@@ -148,6 +150,29 @@ TEST(InitialPoseSim, RobotPlacedByTheUserLocalisesThereByProximity) {
   RecordProperty("first_localized_update", firstLocalized);
   RecordProperty("localizations_with", with.localizations);
   RecordProperty("localizations_without", without.localizations);
+
+  // RGBD/ProximityGlobalScanMap: one ICP against the scans of the whole map around where the
+  // robot is assumed, the nodes there read from the database once instead of retrieved.
+  SlamSummary globalWith, globalWithout;
+  const std::vector<Update> global = localize(frames, kStart, 6, db, mapFromWorld, given, &globalWith, true);
+  const std::vector<Update> globalLost =
+      localize(frames, kStart, 6, db, mapFromWorld, Transform(), &globalWithout, true);
+  ASSERT_EQ(global.size(), 6u);
+  ASSERT_EQ(globalLost.size(), 6u);
+  int globalFirst = -1;
+  for (size_t k = 0; k < global.size(); ++k) {
+    if (!global[k].localized) continue;
+    if (globalFirst < 0) globalFirst = static_cast<int>(k);
+    EXPECT_LT(global[k].pose.getDistance(global[k].truth), 0.15) << "update " << k;
+  }
+  EXPECT_GE(globalFirst, 0) << "never localised on the global scan map";
+  EXPECT_LE(globalFirst, firstLocalized);
+  EXPECT_LT(global.back().pose.getDistance(global.back().truth), 0.15);
+  for (const Update& u : globalLost) EXPECT_GT(u.pose.getDistance(u.truth), 1.0) << "localised without knowing where";
+  EXPECT_LE(globalWithout.localizations, 1);
+  std::cout << "on the global scan map: first localised at update " << globalFirst << ", errors (m):";
+  for (const Update& u : global) std::cout << " " << u.pose.getDistance(u.truth) << (u.localized ? "*" : "");
+  std::cout << "; without a pose: " << globalWithout.localizations << " localisation(s)" << std::endl;
 }
 
 }  // namespace

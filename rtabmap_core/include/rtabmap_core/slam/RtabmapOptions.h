@@ -62,6 +62,8 @@ struct RtabmapOptions {
   float proximityCorrelativeResolution = 0.1f;  // RGBD/ProximityCorrelativeResolution (m)
   float proximityCorrelativeMaxPeakRatio = 0.9f;  // RGBD/ProximityCorrelativeMaxPeakRatio (1 = off)
   float proximityCorrelativeSigmas = 3.0f;      // RGBD/ProximityCorrelativeSigmas (0 = whole window)
+  bool proximityGlobalScanMap = false;          // RGBD/ProximityGlobalScanMap (localization mode)
+  float proximityGlobalScanMapMinRatio = 0.7f;  // RGBD/ProximityGlobalScanMapMinRatio
   // Graph
   float optimizeMaxError = 3.0f;          // RGBD/OptimizeMaxError (standard deviations, 0 = off)
   bool optimizeFromGraphEnd = false;      // RGBD/OptimizeFromGraphEnd
