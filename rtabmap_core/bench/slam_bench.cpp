@@ -3,6 +3,8 @@
 //  - 2D lidar + wheel odometry on the Radish logs (no camera: proximity detection closes the
 //    loops): ACES relation error of the optimised trajectory (goal: mean translation <= 0.035 m,
 //    Cartographer 0.0375) against the raw wheel odometry's; the Intel grid kept as PNG;
+//  - localization on ACES: the second half against a map of the first, local paths against the
+//    global scan map (relation error, localizations, update time);
 //  - RGB-D on 7-Scenes with F2M odometry: ATE with loop closures vs odometry only;
 //  - the simulator's `long` scenario (RGB-D + laser, 1 Hz, memory management) with
 //    Rtabmap/TimeThr 500 ms, with Rtabmap/MemoryThr 300, and unbounded: slam_ms_p99 (goal
@@ -11,6 +13,7 @@
 // --data; simulated data cached in the work folder (default build/bench_output/slam).
 //
 // Usage: bench-slam_bench [--work DIR] [--data DIR] [--long-duration S] [--no-long] [--no-rgbd]
+//                         [--localization-only]
 #include <nlohmann/json.hpp>
 
 #include "RunTool.h"
@@ -106,6 +109,41 @@ void lidar(const fs::path& data, const fs::path& work, Json& result) {
   }
 }
 
+// Localization on real data: ACES's first half mapped (--max-frames), its second half localised
+// against that map (the robot starts where mapping ended; a good part of the second half drives
+// corridors the first never saw), by proximity detection on local paths and on the global scan
+// map (RGBD/ProximityGlobalScanMap): localizations, update time and the relation error of every
+// frame's pose in the map (DIR/localization.tum) against the relations of the second half.
+void acesLocalization(const fs::path& data, const fs::path& work, Json& result) {
+  const fs::path clf = data / "radish" / "aces.clf.bz2", relations = data / "radish" / "aces.relations";
+  if (!fs::exists(clf) || !fs::exists(relations)) return;
+  constexpr int kHalf = 3687;  // of 7,374 scans
+  const fs::path map = work / "aces_half";
+  const std::string robot = "--format carmen --odom wheel " + repositoryConfig("lidar2d.ini") + " ";
+  const Json m = runJson("rtabmap-dataset", robot + "--slam --max-frames " + std::to_string(kHalf) + " --output " +
+                                                map.string() + " " + clf.string());
+  std::cout << "aces localization: first " << kHalf << " scans mapped (" << m["nodes"] << " nodes)" << std::endl;
+  Json entry = {{"map", m}};
+  for (const bool global : {false, true}) {
+    const std::string name = global ? "global_scan_map" : "local_paths";
+    const fs::path dir = work / ("aces_localization_" + name);
+    fs::create_directories(dir);
+    fs::copy_file(map / "rtabmap.db", dir / "rtabmap.db", fs::copy_options::overwrite_existing);
+    const Json l = runJson("rtabmap-dataset", robot + "--localization --start " + std::to_string(kHalf) +
+                                                  " --RGBD/ProximityGlobalScanMap " + (global ? "true" : "false") +
+                                                  " --output " + dir.string() + " " + clf.string());
+    const Json r = runJson("rtabmap-eval", "relations --relations " + relations.string() + " --est " +
+                                               (dir / "localization.tum").string());
+    std::cout << "  " << name << ": " << l["localizations"] << " localizations over " << l["frames"]
+              << " scans, update median " << l["slam_ms_median"] << " ms, p99 " << l["slam_ms_p99"]
+              << " ms; relations (" << r["used"] << "): " << r["translation"]["mean"] << " m / "
+              << r["rotation_deg"]["mean"] << " deg, local " << r["local"]["translation"]["mean"] << " m, loop "
+              << r["loop"]["translation"]["mean"] << " m" << std::endl;
+    entry[name] = {{"run", l}, {"relations", r}};
+  }
+  result["aces_localization"] = entry;
+}
+
 void rgbd(const fs::path& data, const fs::path& work, Json& result) {
   const fs::path scenes = data / "rgbd_7scenes";
   if (!fs::exists(scenes)) {
@@ -159,13 +197,14 @@ int main(int argc, char** argv) {
   fs::path work = fs::path(toolsDir) / ".." / "bench_output" / "slam";
   fs::path data;
   std::string longDuration;
-  bool runLong = true, runRgbd = true;
+  bool runLong = true, runRgbd = true, localizationOnly = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--work") && i + 1 < argc) work = argv[++i];
     else if (!std::strcmp(argv[i], "--data") && i + 1 < argc) data = argv[++i];
     else if (!std::strcmp(argv[i], "--long-duration") && i + 1 < argc) longDuration = argv[++i];
     else if (!std::strcmp(argv[i], "--no-long")) runLong = false;
     else if (!std::strcmp(argv[i], "--no-rgbd")) runRgbd = false;
+    else if (!std::strcmp(argv[i], "--localization-only")) localizationOnly = true;
   }
   if (data.empty()) data = findData();
   fs::create_directories(work);
@@ -174,10 +213,11 @@ int main(int argc, char** argv) {
     if (data.empty()) {
       std::cout << "../shared/data not found: the Radish and 7-Scenes parts are skipped (--data DIR)" << std::endl;
     } else {
-      lidar(data, work, result);
-      if (runRgbd) rgbd(data, work, result);
+      if (!localizationOnly) lidar(data, work, result);
+      acesLocalization(data, work, result);
+      if (runRgbd && !localizationOnly) rgbd(data, work, result);
     }
-    if (runLong) longRun(work, longDuration, result);
+    if (runLong && !localizationOnly) longRun(work, longDuration, result);
   } catch (const std::exception& e) {
     std::cerr << "bench-slam_bench: " << e.what() << std::endl;
     return 1;

@@ -2,9 +2,9 @@
 // RGBD/ProximityGlobalScanMap (localization mode): the laser scans of every node of the saved
 // map, Long-Term Memory included, assembled once in the map frame at the nodes' optimised poses
 // and voxel filtered. Localization then matches a new scan with one ICP against the part of this
-// map around where the robot is assumed, instead of against pieces of earlier trajectories that
-// are in RAM (ProximityBySpace.h): the robot localises on walls seen from every pass at once, and
-// nothing has to come back from the database first. The graph does not change in localization
+// map around where the robot is assumed (RGBD/LocalRadius), instead of against pieces of earlier
+// trajectories that are in RAM (ProximityBySpace.h): the robot localises on walls seen from every
+// pass at once, also where it never drove, and nothing has to come back from the database first. The graph does not change in localization
 // mode, so the map is built once per loaded map.
 #include <cstdint>
 #include <map>
@@ -60,13 +60,15 @@ class GlobalScanMap {
   int skipped_ = 0;
 };
 
-// Localization on the global scan map: ICP of the new node's scan against the map within the
-// scan's range of `estimate` (the robot's assumed pose), from `estimate`, after the correlative
-// search of RGBD/ProximityCorrelativeWindow when it is set and the scans are 2D. Accepted as a
-// merged-scan proximity link would be (Icp/ acceptance, structural complexity, covariance times
-// RGBD/ProximityMergedScanCovFactor), the result is a link from the new node to the map node
-// nearest to the corrected pose. Refused, with the reason, when no map node is within
-// RGBD/LocalRadius of the estimate: the robot is assumed off the map.
+// Localization on the global scan map: ICP of the new node's scan against the map within
+// RGBD/LocalRadius of `estimate` (the robot's assumed pose), from `estimate`, after the
+// correlative search of RGBD/ProximityCorrelativeWindow when it is set and the scans are 2D.
+// Accepted when ICP's acceptance (Icp/) passes, when RGBD/ProximityGlobalScanMapMinRatio of the
+// scan's points found the map, and when the scan constrains every direction (structural
+// complexity, as for merged scans), the result is a link from the new node to the map node
+// nearest to the corrected pose, its covariance ICP's times RGBD/ProximityMergedScanCovFactor.
+// Refused, with the reason, when no map node is within RGBD/LocalRadius of the estimate: the
+// robot is assumed off the map.
 ProximityResult localizeOnGlobalScanMap(memory::Memory& memory, int currentId, const Transform& estimate,
                                         const GlobalScanMap& map, const RtabmapOptions& options,
                                         const LinkRegistration& registration, bool covOffDiagIgnored);

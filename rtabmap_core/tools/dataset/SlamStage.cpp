@@ -54,6 +54,7 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
   const bool used = rtabmap_.process(data, frame.pose, frame.info.covariance);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   wallSeconds_ += ms / 1000.0;
+  if (options_.localization) localizationFrames_.emplace_back(frame.stamp, rtabmap_.mapCorrection() * frame.pose);
   if (used) {
     updateMs_.push_back(ms);
     for (const auto& [key, value] : rtabmap_.statistics().data()) {
@@ -108,6 +109,10 @@ void SlamStage::finish() {
       frames.add(f.stamp, node->second * (odom->second.inverse() * f.odometry));
     }
     writeTrajectory(dir + "/frames.tum", frames, TrajectoryFormat::kTum);
+  } else {
+    Trajectory frames;
+    for (const auto& [stamp, pose] : localizationFrames_) frames.add(stamp, pose);
+    writeTrajectory(dir + "/localization.tum", frames, TrajectoryFormat::kTum);
   }
   if (!grid.empty()) {
     writeMapServer(grid, dir + "/grid.pgm", dir + "/grid.yaml");

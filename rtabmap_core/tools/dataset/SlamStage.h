@@ -30,7 +30,8 @@ class SlamStage {
   // Closes the map; writes DIR/poses.tum (optimised nodes, node stamps), DIR/frames.tum (every
   // frame: its last node's optimised pose composed with the odometry since that node, for
   // per-scan metrics such as the Radish relations) and DIR/grid.pgm + .yaml + .png when there
-  // is a grid.
+  // is a grid. In localization mode, DIR/localization.tum instead: every frame's pose in the map
+  // as the robot would publish it (map -> odom after the frame times its odometry).
   void finish();
   // frames, nodes, sessions, loop_closures, proximity_links, time_proximity_links, rejected_links, slam_ms_* ,
   // slam_stage_ms (Timing/* median and p99), max_wm_size, realtime_factor, ate_rmse (against the frames' ground truth).
@@ -50,6 +51,7 @@ class SlamStage {
   };
   std::vector<FrameRef> frameRefs_;
   std::map<double, Transform> groundTruth_;  // frame stamp -> ground truth (base)
+  std::vector<std::pair<double, Transform>> localizationFrames_;  // localization mode: stamp -> pose in the map
   std::vector<double> updateMs_;
   std::map<std::string, std::vector<double>> stageMs_;  // Timing/... statistic -> per update
   double wallSeconds_ = 0.0;

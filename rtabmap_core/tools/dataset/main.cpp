@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
                         "DIR/rtabmap.db is replaced.");
     cli.addFlag("continue", "Like --slam, but add a session to an existing DIR/rtabmap.db (multi-session mapping).");
     cli.addFlag("localization", "Localise the dataset against the existing DIR/rtabmap.db without modifying it "
-                                "(Mem/IncrementalMemory false).");
+                                "(Mem/IncrementalMemory false); every frame's pose in the map goes to "
+                                "DIR/localization.tum.");
     cli.addOption("start", "N", "Skip the first N frames.", "0");
     cli.addOption("max-frames", "N", "Stop after N frames (0 = all).", "0");
     cli.addOption("rate", "HZ", "Frame rate for layouts without stamps (0 = the layout's default).", "0");
