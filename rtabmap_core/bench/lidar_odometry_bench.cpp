@@ -8,6 +8,10 @@
 //    machine shared with other jobs, wall time also counts waiting for a core).
 //  - 3D: ICP between KITTI 00 Velodyne scans 94->95 and 198->199 from the identity, against the
 //    ground-truth relative poses, point-to-plane and point-to-point.
+//  - The IMU's gyroscope as the rotation of S2M's motion guess (Odometry::addImu, rtabmap-dataset
+//    --imu), where it matters: the simulator's `loop` (2D lasers, its IMU with noise and bias) at
+//    3 Hz, where turns between scans outrun the constant-velocity model, and at 10 Hz; ATE and
+//    lost scans with and without the IMU (tools beside the bench: rtabmap-sim, rtabmap-dataset).
 // Human-readable lines first, then one JSON line with every figure.
 //
 // Usage: bench-lidar_odometry_bench [--data DIR] [--frames N]
@@ -29,6 +33,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "RunTool.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/eval/DatasetReader.h"
 #include "rtabmap_core/eval/RelationError.h"
@@ -301,6 +306,46 @@ Json benchKitti(const std::string& dir) {
   return out;
 }
 
+// ---- IMU guess on the simulator ----------------------------------------------------------------
+
+// A planar robot's 2D laser odometry (the README's IMU figures): 5 cm voxels, point-to-plane,
+// 0.3 m correspondences.
+constexpr const char* kSimLaser =
+    "--Reg/Force3DoF true --Icp/VoxelSize 0.05 --Icp/PointToPlane true --Icp/MaxCorrespondenceDistance 0.3 ";
+
+Json benchImuGuess(const fs::path& work) {
+  std::error_code ec;
+  const fs::path tools = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  if (ec || !fs::exists(tools / "rtabmap-sim") || !fs::exists(tools / "rtabmap-dataset")) {
+    std::printf("IMU guess: skipped (rtabmap-sim or rtabmap-dataset not beside the bench)\n");
+    return Json();
+  }
+  Json out;
+  for (const int rate : {3, 10}) {
+    const fs::path data = work / ("loop_" + std::to_string(rate) + "hz");
+    if (!fs::exists(data / "groundtruth.txt")) {
+      bench::runToolJson(tools.string(), "rtabmap-sim", "--scenario loop --no-rgbd --overwrite --rate " +
+                                                            std::to_string(rate) + " --output " + data.string());
+    }
+    Json row;
+    for (const bool imu : {false, true}) {
+      const fs::path odom = work / ("odom_" + std::to_string(rate) + (imu ? "hz_imu" : "hz"));
+      const Json r = bench::runToolJson(tools.string(), "rtabmap-dataset",
+                                        std::string("--format sim --odom s2m ") + kSimLaser + (imu ? "--imu " : "") +
+                                            "--output " + odom.string() + " " + data.string());
+      std::printf("IMU guess, sim loop at %d Hz, S2M %s: ATE %.3f m, %d of %d scans lost, %d guesses from the IMU\n",
+                  rate, imu ? "with the gyroscope" : "constant velocity", r.value("odom_ate_rmse", -1.0),
+                  r.value("lost", -1), r.value("frames", -1), r.value("imu_guesses", 0));
+      row[imu ? "imu" : "constant_velocity"] = {{"ate_rmse", r.value("odom_ate_rmse", -1.0)},
+                                                {"lost", r.value("lost", -1)},
+                                                {"frames", r.value("frames", -1)},
+                                                {"imu_guesses", r.value("imu_guesses", 0)}};
+    }
+    out[std::to_string(rate) + "hz"] = row;
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -324,6 +369,9 @@ int main(int argc, char** argv) {
     } else {
       std::printf("ACES: skipped (../shared/data/radish absent; set RTABMAP_DATA_DIR or --data)\n");
     }
+    const fs::path work = fs::read_symlink("/proc/self/exe").parent_path() / ".." / "bench_output" / "imu_guess";
+    fs::create_directories(work);
+    out["imu_guess"] = benchImuGuess(work);
     const std::string kittiRoot = findData(s, "kitti00_velodyne/000094.bin");
     if (!kittiRoot.empty()) {
       out["kitti00"] = benchKitti(kittiRoot + "/kitti00_velodyne");
