@@ -4,8 +4,8 @@
 // and voxel filtered. Localization then matches a new scan with one ICP against the part of this
 // map around where the robot is assumed (RGBD/LocalRadius), instead of against pieces of earlier
 // trajectories that are in RAM (ProximityBySpace.h): the robot localises on walls seen from every
-// pass at once, also where it never drove, and nothing has to come back from the database first. The graph does not change in localization
-// mode, so the map is built once per loaded map.
+// pass at once, also where it never drove, and nothing has to come back from the database
+// first. The graph does not change in localization mode, so the map is built once per loaded map.
 #include <cstdint>
 #include <map>
 #include <string>

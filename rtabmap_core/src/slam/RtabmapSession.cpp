@@ -156,8 +156,11 @@ void Rtabmap::Impl::buildGlobalScanMap(int excludedId) {
   std::vector<std::pair<LaserScan, Transform>> parts;
   std::vector<int> inDatabase;
   for (const auto& [id, pose] : poses) {
-    if (Signature* s = memory.mutableSignature(id)) {
-      parts.emplace_back(scanOf(*s), pose);
+    if (const Signature* s = memory.signature(id)) {
+      // Uncompressed in a copy: scanOf() keeps the raw points in the node it is given, and a
+      // Working Memory of 3D lidar nodes would then hold all of them.
+      Signature copy(*s);
+      parts.emplace_back(scanOf(copy), pose);
     } else {
       inDatabase.push_back(id);
     }
