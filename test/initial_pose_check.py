@@ -205,6 +205,26 @@ class InitialPoseTest(unittest.TestCase):
         self.assertIn("initial_pose: the robot is at", param.log())
         self.assertEqual(set(fault.database_node_ids(db)), saved, "localization modified the map")
 
+        # 6. The same on the global scan map (RGBD/ProximityGlobalScanMap): every node's scan read
+        # once, from the database too, and matched around the given pose.
+        scan_map = self.node(folder, db, "global_scan_map", **{
+            "Mem/IncrementalMemory": "false", "initial_pose": self.pose_text(start_truth),
+            "RGBD/ProximityGlobalScanMap": "true"})
+        scan_map.start()
+        scan_map.wait_ready()
+        before = len(self.localizations)
+        self.play(START, PART)
+        common.wait_quiet(self.infos, quiet=2.0, timeout=15.0)
+        on_map = self.errors(before)
+        rospy.loginfo("localization on the global scan map: %d localization_pose, errors %s", len(on_map),
+                      ["%.2f" % e for e in on_map])
+        self.assertGreater(len(on_map), 2, "no localization on the global scan map")
+        self.assertLess(on_map[0], 1.0)  # as above: the first update may start a frame or two late
+        self.assertLess(max(on_map[1:]), 0.25)
+        self.assertEqual(scan_map.kill(signal.SIGINT), 0, scan_map.log()[-3000:])
+        self.assertIn("global scan map (RGBD/ProximityGlobalScanMap)", scan_map.log())
+        self.assertEqual(set(fault.database_node_ids(db)), saved, "localization modified the map")
+
 
 if __name__ == "__main__":
     rospy.init_node("initial_pose_check")
