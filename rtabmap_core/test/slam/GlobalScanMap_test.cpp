@@ -202,8 +202,10 @@ TEST_F(GlobalScanMapLocalization, RobotPlacedByTheUserLocalisesOnTheWholeMap) {
   int first = -1, localizedAside = 0;
   for (size_t k = 0; k < global.localized.size(); ++k) {
     if (global.localized[k] && first < 0) first = static_cast<int>(k);
+    // Against the world: the map itself keeps a few centimetres of the mapping's drift there
+    // (worst error 3.3-4.7 cm over 17 draws of the noise).
     if (first >= 0) {
-      EXPECT_LT(global.errors[k], 0.05) << "update " << k;
+      EXPECT_LT(global.errors[k], 0.06) << "update " << k;
     }
     if (k >= aside && global.localized[k]) ++localizedAside;
   }
