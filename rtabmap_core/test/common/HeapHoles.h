@@ -10,6 +10,20 @@
 
 namespace rtabmap::test {
 
+// AddressSanitizer and ThreadSanitizer replace malloc (make test-asan / test-tsan): glibc's heap,
+// its trim, statistics and arenas, which these tests measure, is then not the allocator running.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr bool kMallocReplacedBySanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+inline constexpr bool kMallocReplacedBySanitizer = true;
+#else
+inline constexpr bool kMallocReplacedBySanitizer = false;
+#endif
+#else
+inline constexpr bool kMallocReplacedBySanitizer = false;
+#endif
+
 class HeapHole {
  public:
   explicit HeapHole(size_t bytes) {

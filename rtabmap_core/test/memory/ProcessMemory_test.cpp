@@ -39,6 +39,7 @@ TEST(ProcessMemory, ReleaseFreedHeapGivesTheFreedPagesBack) {
 #if !defined(__GLIBC__)
   GTEST_SKIP() << "the heap release is glibc's malloc_trim";
 #endif
+  if (test::kMallocReplacedBySanitizer) GTEST_SKIP() << "a sanitizer replaces glibc's malloc in this build";
   if (residentMemory().total == 0) GTEST_SKIP() << "no /proc/self/status here";
   test::HeapHole hole(64 * kMb);
   const size_t held = residentMemory().anon;
@@ -86,6 +87,7 @@ TEST(ProcessMemory, ConfigureAllocatorCapsTheArenasOfThreadsAllocatingTogether) 
 #if !defined(__GLIBC__)
   GTEST_SKIP() << "the allocator set-up is glibc's mallopt";
 #else
+  if (test::kMallocReplacedBySanitizer) GTEST_SKIP() << "a sanitizer replaces glibc's malloc in this build";
   for (const char* chosen : {"MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "MALLOC_ARENA_MAX", "GLIBC_TUNABLES"}) {
     if (std::getenv(chosen)) GTEST_SKIP() << chosen << " is set: the user's allocator settings win";
   }
