@@ -20,6 +20,12 @@ namespace {
 // a few hundred points of a 5 cm 2D map.
 constexpr float kCellSize = 2.0f;
 
+// Both cell coordinates in one key, through unsigned arithmetic (a negative value shifted left
+// is undefined before C++20: UBSan's report in make test-asan).
+uint64_t cellKey(int32_t cx, int32_t cy) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy);
+}
+
 LaserScan voxelFiltered(const LaserScan& scan, float voxelSize) {
   if (voxelSize <= 0.0f || scan.empty()) return scan;
   ScanFilterOptions f;
@@ -60,10 +66,8 @@ void GlobalScanMap::add(const std::vector<std::pair<LaserScan, Transform>>& part
   points_ = concatenated(points_, voxelFiltered(mergeScans(kept), voxelSize_));
 }
 
-int64_t GlobalScanMap::cellOf(float x, float y) const {
-  const int64_t cx = static_cast<int64_t>(std::floor(x / cellSize_));
-  const int64_t cy = static_cast<int64_t>(std::floor(y / cellSize_));
-  return (cx << 32) ^ (cy & 0xffffffffLL);
+uint64_t GlobalScanMap::cellOf(float x, float y) const {
+  return cellKey(static_cast<int32_t>(std::floor(x / cellSize_)), static_cast<int32_t>(std::floor(y / cellSize_)));
 }
 
 void GlobalScanMap::finish() {
@@ -71,7 +75,7 @@ void GlobalScanMap::finish() {
   if (points_.empty()) return;
   points_ = voxelFiltered(points_, voxelSize_);
   const int n = points_.size();
-  std::vector<int64_t> keys(n);
+  std::vector<uint64_t> keys(n);
   for (int i = 0; i < n; ++i) {
     const float* p = points_.data().ptr<float>(0, i);
     keys[i] = cellOf(p[0], p[1]);
@@ -86,7 +90,7 @@ void GlobalScanMap::finish() {
   }
   points_ = LaserScan(sorted, n, 0.0, 0.0, points_.format());
   for (int i = 0; i < n;) {
-    const int64_t key = keys[order[i]];
+    const uint64_t key = keys[order[i]];
     int j = i;
     while (j < n && keys[order[j]] == key) ++j;
     cells_.emplace(key, std::make_pair(i, j));
@@ -97,10 +101,10 @@ void GlobalScanMap::finish() {
 LaserScan GlobalScanMap::around(const Transform& center, float radius) const {
   if (points_.empty() || cells_.empty() || !(radius > 0.0f)) return LaserScan();
   const float cx = center.x(), cy = center.y();
-  const int64_t x0 = static_cast<int64_t>(std::floor((cx - radius) / cellSize_));
-  const int64_t x1 = static_cast<int64_t>(std::floor((cx + radius) / cellSize_));
-  const int64_t y0 = static_cast<int64_t>(std::floor((cy - radius) / cellSize_));
-  const int64_t y1 = static_cast<int64_t>(std::floor((cy + radius) / cellSize_));
+  const int32_t x0 = static_cast<int32_t>(std::floor((cx - radius) / cellSize_));
+  const int32_t x1 = static_cast<int32_t>(std::floor((cx + radius) / cellSize_));
+  const int32_t y0 = static_cast<int32_t>(std::floor((cy - radius) / cellSize_));
+  const int32_t y1 = static_cast<int32_t>(std::floor((cy + radius) / cellSize_));
   const float r2 = radius * radius;
   const int channels = LaserScan::channels(points_.format());
   const bool is2d = points_.is2d(), normals = points_.hasNormals();
@@ -108,9 +112,9 @@ LaserScan GlobalScanMap::around(const Transform& center, float radius) const {
   const Eigen::Matrix3f r = toCenter.rotationMatrix().cast<float>();
   const Eigen::Vector3f t = toCenter.translation().cast<float>();
   std::vector<float> out;
-  for (int64_t x = x0; x <= x1; ++x) {
-    for (int64_t y = y0; y <= y1; ++y) {
-      const auto cell = cells_.find((x << 32) ^ (y & 0xffffffffLL));
+  for (int32_t x = x0; x <= x1; ++x) {
+    for (int32_t y = y0; y <= y1; ++y) {
+      const auto cell = cells_.find(cellKey(x, y));
       if (cell == cells_.end()) continue;
       for (int i = cell->second.first; i < cell->second.second; ++i) {
         const float* p = points_.data().ptr<float>(0, i);

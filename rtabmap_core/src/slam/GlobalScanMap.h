@@ -50,12 +50,12 @@ class GlobalScanMap {
   LaserScan around(const Transform& center, float radius) const;
 
  private:
-  int64_t cellOf(float x, float y) const;
+  uint64_t cellOf(float x, float y) const;
 
   float voxelSize_;
   float cellSize_;
   LaserScan points_;  // map frame, identity local transform; sorted by cell after finish()
-  std::unordered_map<int64_t, std::pair<int, int>> cells_;  // cell -> [first, last) in points_
+  std::unordered_map<uint64_t, std::pair<int, int>> cells_;  // cell -> [first, last) in points_
   std::map<int, Transform> nodes_;
   int skipped_ = 0;
 };
