@@ -17,10 +17,17 @@
 namespace rtabmap {
 namespace {
 
-// Scans of the office at these poses, each with the pose of its node.
-std::vector<std::pair<LaserScan, Transform>> officeScans(const std::vector<Transform>& poses) {
+// The robot's lidar in the office: 12 m range, `noise` (m) on the ranges.
+test::Lidar2D officeLidar(double noise) {
   test::Lidar2D lidar;
   lidar.rangeMax = 12.0;
+  lidar.noise = noise;
+  return lidar;
+}
+
+// Scans of the office at these poses, each with the pose of its node.
+std::vector<std::pair<LaserScan, Transform>> officeScans(const std::vector<Transform>& poses) {
+  const test::Lidar2D lidar = officeLidar(0.0);
   std::vector<std::pair<LaserScan, Transform>> parts;
   for (const Transform& p : poses) parts.emplace_back(test::castScan2D(test::officeWorld(), p, lidar), p);
   return parts;
@@ -141,9 +148,7 @@ Localized localize(const std::string& db, const std::vector<Transform>& route, c
   if (!given.isNull()) {
     EXPECT_TRUE(slam.setInitialPose(given));
   }
-  test::Lidar2D lidar;
-  lidar.rangeMax = 12.0;
-  lidar.noise = 0.01;
+  const test::Lidar2D lidar = officeLidar(0.01);
   std::mt19937 rng(test::drawSeed(11));
   const std::vector<Transform> odom = test::wheelOdometry(route, 0.02, 0.02);
   Localized out;
@@ -166,9 +171,7 @@ class GlobalScanMapLocalization : public ::testing::Test {
     // The map: a tour of the office with drifting wheel odometry, corrected by the scans.
     const std::vector<Transform> tour =
         test::pathThrough({{2, 2}, {2, 6}, {10, 6}, {10, 10}, {12.5, 10}}, 0.25);
-    test::Lidar2D lidar;
-    lidar.rangeMax = 12.0;
-    lidar.noise = 0.01;
+    const test::Lidar2D lidar = officeLidar(0.01);
     std::mt19937 rng(test::drawSeed(5));
     const std::vector<Transform> odom = test::wheelOdometry(tour, 0.02, 0.02);
     Rtabmap slam;
