@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """rostest check (fault_dropout.test): sensor dropouts through the rtabmap node on a simulator
-bag rewritten with holes: the camera topics silent for 30 s, the odometry (odom -> base_link in
-tf, and /odom) missing for 10 s, then the bag played again from 2 s in (the clock jumps
-backwards, odometry restarted). The node must not crash, must say what is missing
-(the "did not receive data since 5 seconds" warning naming the camera topics, the missing
-odom -> base_link transform), map again after each hole, and start a new map on the restart."""
+bag rewritten with holes: the camera topics silent for 30 s, the lidar (/scan) silent for 30 s,
+the odometry (odom -> base_link in tf, and /odom) missing for 10 s, then the bag played again
+from 2 s in (the clock jumps backwards, odometry restarted). The node must not crash, must say
+what is missing (the "did not receive data since 5 seconds" warning, whose per-topic last stamps
+show the silent topics stopped at the hole while the others went on; the missing
+odom -> base_link transform), map again after each hole in the same map, and start a new map on
+the restart."""
 import os
 import re
 import shutil
@@ -27,8 +29,12 @@ import odom_common as common  # noqa: E402  (temporary folders, bag playing, wai
 
 START = 1700000000
 CAMERA_HOLE = (40.0, 70.0)  # seconds from the start of the bag
-ODOM_HOLE = (100.0, 110.0)
+SCAN_HOLE = (95.0, 125.0)
+ODOM_HOLE = (150.0, 160.0)
+SCAN_TOPIC = "/scan"
 NEW_RECORD = re.compile(r"^(\x1b\[[0-9;]*m)*\[ ?(DEBUG|INFO|WARN|ERROR|FATAL)\]")  # a rosconsole or core log line
+# A topic's line in that warning: what came since the last synchronised set, or that it stopped.
+TOPIC_STATUS = re.compile(r"^\s+(/\S+) \[[^]]*\]: (\d+ received|stopped)\D*last stamp ([0-9.]+)")
 
 
 def odometry_tf(transform):
@@ -36,15 +42,18 @@ def odometry_tf(transform):
 
 
 def punch_holes(source, target):
-    """Copies the bag without the camera topics in CAMERA_HOLE and without odometry (tf and
-    /odom) in ODOM_HOLE."""
-    dropped = {"camera": 0, "odometry": 0}
+    """Copies the bag without the camera topics in CAMERA_HOLE, the lidar in SCAN_HOLE and
+    odometry (tf and /odom) in ODOM_HOLE."""
+    dropped = {"camera": 0, "lidar": 0, "odometry": 0}
     with rosbag.Bag(source) as src, rosbag.Bag(target, "w") as dst:
         # With their connection headers: /tf_static stays latched.
         for topic, msg, t, header in src.read_messages(return_connection_header=True):
             s = t.to_sec() - START
             if topic in fault.CAMERA_TOPICS and CAMERA_HOLE[0] <= s < CAMERA_HOLE[1]:
                 dropped["camera"] += 1
+                continue
+            if topic == SCAN_TOPIC and SCAN_HOLE[0] <= s < SCAN_HOLE[1]:
+                dropped["lidar"] += 1
                 continue
             if ODOM_HOLE[0] <= s < ODOM_HOLE[1]:
                 if topic == "/odom":
@@ -79,11 +88,12 @@ class FaultDropoutTest(unittest.TestCase):
 
     def test_1_dropouts(self):
         cls = type(self)
-        source = fault.make_sim_bag(self, cls.folder, rospy.get_param("~duration", 150), start_stamp=START)
+        source = fault.make_sim_bag(self, cls.folder, rospy.get_param("~duration", 180), start_stamp=START)
         cls.bag = os.path.join(cls.folder, "holes.bag")
         dropped = punch_holes(source, cls.bag)
         rospy.loginfo("bag with holes: %s messages dropped", dropped)
         self.assertGreater(dropped["camera"], 3 * 50)
+        self.assertGreater(dropped["lidar"], 50)
         self.assertGreater(dropped["odometry"], 10)
 
         cls.node = fault.SlamNode(cls.folder, os.path.join(cls.folder, "dropout.db"))
@@ -126,37 +136,75 @@ class FaultDropoutTest(unittest.TestCase):
         def at(i):
             return i.header.stamp.to_sec() - START
 
-        before = [i for i in infos if at(i) < CAMERA_HOLE[0]]
-        between = [i for i in infos if CAMERA_HOLE[1] <= at(i) < ODOM_HOLE[0]]
-        after = [i for i in infos if at(i) >= ODOM_HOLE[1]]
-        no_camera = [i for i in infos if CAMERA_HOLE[0] <= at(i) < CAMERA_HOLE[1]]
+        def within(hole):
+            return [i for i in infos if hole[0] <= at(i) < hole[1]]
+
+        before = within((0.0, CAMERA_HOLE[0]))
+        after_camera = within((CAMERA_HOLE[1], SCAN_HOLE[0]))
+        after_scan = within((SCAN_HOLE[1], ODOM_HOLE[0]))
+        after = within((ODOM_HOLE[1], float("inf")))
         # Frames of the odometry hole still queued when odometry comes back get a pose that tf2
         # interpolates across the whole gap: counted, not refused (the node's behaviour).
-        no_odometry = [round(at(i), 1) for i in infos if ODOM_HOLE[0] <= at(i) < ODOM_HOLE[1]]
-        rospy.loginfo("updates: %d before the camera hole, %d between the holes, %d after; in the odometry hole "
-                      "(tf interpolated across it) at %s s", len(before), len(between), len(after), no_odometry)
+        no_odometry = [round(at(i), 1) for i in within(ODOM_HOLE)]
+        rospy.loginfo("updates: %d before the camera hole, %d after it, %d after the lidar hole, %d after the "
+                      "odometry hole; in the odometry hole (tf interpolated across it) at %s s", len(before),
+                      len(after_camera), len(after_scan), len(after), no_odometry)
         self.assertGreater(len(before), 10)
-        self.assertGreater(len(between), 10, "no mapping after the camera came back")
+        self.assertGreater(len(after_camera), 10, "no mapping after the camera came back")
+        self.assertGreater(len(after_scan), 10, "no mapping after the lidar came back")
         self.assertGreater(len(after), 10, "no mapping after odometry came back")
-        self.assertFalse(no_camera, "updates without camera data")
-        # The 30 s camera hole is input the node never got: its info says how much (rtabmap_sync
-        # counts the messages missing from each topic's stamps).
-        self.assertGreater(fault.stat(after[-1], "Sync/Missing_from_stamps/"), 3 * 50)
+        # The node synchronises camera and lidar exactly: no update without either.
+        self.assertFalse(within(CAMERA_HOLE), "updates without camera data")
+        self.assertFalse(within(SCAN_HOLE), "updates without a laser scan")
+        # The holes are input the node never got: its info says how much (rtabmap_sync counts the
+        # messages missing from each topic's stamps): 3 camera topics x 2 Hz x 30 s, 2 Hz x 30 s.
+        missing = [fault.stat(x[-1], "Sync/Missing_from_stamps/") for x in (before, after_camera, after_scan)]
+        self.assertGreater(missing[1] - missing[0], 3 * 50, "camera hole not counted: %s" % missing)
+        self.assertGreater(missing[2] - missing[1], 50, "lidar hole not counted: %s" % missing)
         # One map throughout: a hole is not an odometry reset.
         self.assertEqual(fault.stat(before[0], "Loop/Map_id"), fault.stat(after[-1], "Loop/Map_id"))
 
         lines = log.splitlines()
-        silent = [l for l in lines if "did not receive data since" in l]
-        self.assertTrue(silent, "no \"did not receive data\" warning:\n" + log[-3000:])
-        # The warning lists each subscribed topic on a line of its own, with its last stamp.
-        first = next(n for n, l in enumerate(lines) if "did not receive data since" in l)
-        end = next((n for n in range(first + 1, len(lines)) if NEW_RECORD.match(lines[n])), len(lines))
-        block = "\n".join(lines[first:end])
-        for topic in fault.CAMERA_TOPICS[:2] + ("/scan",):
-            self.assertIn(topic, block, "the warning does not name " + topic)
+        warnings = self.silence_warnings(lines)
+        self.assertTrue(warnings, "no \"did not receive data\" warning:\n" + log[-3000:])
+        # Each hole has its warning, and the per-topic stamps in it tell which input went silent:
+        # the silent topics' last stamps just before the hole, the others' after its start.
+        self.assertTrue(self.names_silent(warnings, fault.CAMERA_TOPICS, (SCAN_TOPIC,), CAMERA_HOLE[0]),
+                        "no warning showing the camera topics silent from %.0f s: %s" % (CAMERA_HOLE[0], warnings))
+        self.assertTrue(self.names_silent(warnings, (SCAN_TOPIC,), fault.CAMERA_TOPICS, SCAN_HOLE[0]),
+                        "no warning showing %s silent from %.0f s: %s" % (SCAN_TOPIC, SCAN_HOLE[0], warnings))
         missing_tf = [l for l in lines if "odom" in l and "base_link" in l and ("WARN" in l or "ERROR" in l)]
         self.assertTrue(missing_tf, "no warning about the missing odom -> base_link:\n" + log[-3000:])
-        rospy.loginfo("warnings: %s | %s", silent[0].strip(), missing_tf[0].strip())
+        rospy.loginfo("%d silence warnings; %s", len(warnings), missing_tf[0].strip())
+
+    @staticmethod
+    def silence_warnings(lines):
+        """Each "did not receive data" warning as {topic: (stopped, last stamp in s from the bag's
+        start)}: the warning lists each subscribed topic on a line of its own."""
+        warnings = []
+        for n, line in enumerate(lines):
+            if "did not receive data since" not in line:
+                continue
+            stamps = {}
+            for l in lines[n + 1:]:
+                if NEW_RECORD.match(l):
+                    break
+                m = TOPIC_STATUS.match(l)
+                if m:
+                    stamps[m.group(1)] = (m.group(2) == "stopped", float(m.group(3)) - START)
+            warnings.append(stamps)
+        return warnings
+
+    @staticmethod
+    def names_silent(warnings, silent, going, hole_start):
+        """A warning that says every `silent` topic stopped, its last stamp within 1.5 s before
+        hole_start (2 Hz), while every `going` topic came on past hole_start + 2 s."""
+        for w in warnings:
+            if all(t in w for t in silent + going) and \
+                    all(w[t][0] and hole_start - 1.5 <= w[t][1] < hole_start for t in silent) and \
+                    all(not w[t][0] and w[t][1] > hole_start + 2.0 for t in going):
+                return True
+        return False
 
 
 if __name__ == "__main__":

@@ -208,6 +208,7 @@ struct DataSubscriber::Impl {
     lastClock = ros::Time::now();
     TopicStatus& s = status[size_t(slot)];
     ++s.received;
+    ++s.receivedEver;
     s.lastStamp = stamp.toSec();
     drops.received(size_t(slot), stamp.toSec());
     return true;
@@ -312,7 +313,7 @@ bool DataSubscriber::setup(ros::NodeHandle& nh, const std::string& name, const S
   for (const TopicSlot& s : slots) {
     // Remappings apply to the base name ("rgb/image"), the transport's suffix comes after, as
     // image_transport does.
-    d.status.push_back({transportTopic(s, nh.resolveName(s.topic)), messageType(s), 0, 0.0});
+    d.status.push_back({transportTopic(s, nh.resolveName(s.topic)), messageType(s), 0, 0, 0.0});
   }
   if (slots.size() > 1) {
     d.sync = detail::makeErasedSync(int(slots.size()), options_.approxSync, options_.queueSize,

@@ -147,20 +147,27 @@ std::string noDataWarning(const std::string& node, double seconds, const std::ve
                           const std::string& policy) {
   std::ostringstream s;
   s << node << ": did not receive data since " << seconds << " seconds! Subscribed to (" << policy << "):";
-  bool anySilent = false;
+  bool anyNever = false, anyStopped = false;
   for (const TopicStatus& t : topics) {
     s << "\n   " << t.topic << " [" << t.type << "]: ";
-    if (t.received == 0) {
+    char stamp[48];
+    std::snprintf(stamp, sizeof(stamp), "%.6f", t.lastStamp);
+    if (t.receivedEver == 0) {
       s << "nothing received";
-      anySilent = true;
+      anyNever = true;
+    } else if (t.received == 0) {
+      s << "stopped, nothing since the last synchronised set, last stamp " << stamp << " (" << t.receivedEver
+        << " received in all)";
+      anyStopped = true;
     } else {
-      char buf[48];
-      std::snprintf(buf, sizeof(buf), "%.6f", t.lastStamp);
-      s << t.received << " received, last stamp " << buf;
+      s << t.received << " received, last stamp " << stamp;
     }
   }
-  if (anySilent) {
+  if (anyNever) {
     s << "\nMake sure every topic above is published (\"rostopic hz <topic>\") and remapped to this node.";
+  } else if (anyStopped) {
+    s << "\nA topic above stopped (its sensor or driver went silent: \"rostopic hz <topic>\"); "
+         "updates resume when it comes back.";
   } else {
     s << "\nEvery topic is published: their header stamps are too far apart for the sync policy "
          "(use approx_sync, a larger approx_sync_max_interval or queue_size, or check the stamps).";

@@ -117,9 +117,9 @@ TEST(SyncTopics, PolicyDescription) {
 }
 
 TEST(SyncTopics, WarningListsEachTopicWhatArrivedAndThePolicy) {
-  const std::vector<TopicStatus> topics = {{"/cam/rgb/image", "sensor_msgs/Image", 12, 100.5},
-                                           {"/cam/depth/image", "sensor_msgs/Image", 0, 0.0},
-                                           {"/cam/rgb/camera_info", "sensor_msgs/CameraInfo", 12, 100.5}};
+  const std::vector<TopicStatus> topics = {{"/cam/rgb/image", "sensor_msgs/Image", 12, 12, 100.5},
+                                           {"/cam/depth/image", "sensor_msgs/Image", 0, 0, 0.0},
+                                           {"/cam/rgb/camera_info", "sensor_msgs/CameraInfo", 12, 12, 100.5}};
   const std::string text = noDataWarning("/rgbd_sync", 5, topics, "approx sync, queue 10");
   EXPECT_EQ(text.rfind("/rgbd_sync: did not receive data since 5 seconds!", 0), 0u) << text;
   EXPECT_NE(text.find("(approx sync, queue 10)"), std::string::npos) << text;
@@ -132,10 +132,29 @@ TEST(SyncTopics, WarningListsEachTopicWhatArrivedAndThePolicy) {
 }
 
 TEST(SyncTopics, WarningBlamesStampsWhenEveryTopicArrives) {
-  const std::vector<TopicStatus> topics = {{"/a", "sensor_msgs/Image", 3, 1.0}, {"/b", "sensor_msgs/Image", 4, 9.0}};
+  const std::vector<TopicStatus> topics = {{"/a", "sensor_msgs/Image", 3, 9, 1.0}, {"/b", "sensor_msgs/Image", 4, 9, 9.0}};
   const std::string text = noDataWarning("/n", 5, topics, "exact sync, queue 10");
   EXPECT_EQ(text.find("nothing received"), std::string::npos) << text;
+  EXPECT_EQ(text.find("stopped"), std::string::npos) << text;
   EXPECT_NE(text.find("too far apart for the sync policy"), std::string::npos) << text;
+}
+
+// A sensor that went silent mid-run (issue 10's dropouts) is told apart from a topic never
+// published: its line says it stopped and when (its last stamp), and the hint is not "remap it".
+TEST(SyncTopics, WarningShowsWhenATopicStopped) {
+  const std::vector<TopicStatus> topics = {{"/cam/rgb/image", "sensor_msgs/Image", 9, 310, 155.5},
+                                           {"/scan", "sensor_msgs/LaserScan", 0, 290, 150.5}};
+  const std::string text = noDataWarning("/rtabmap", 5, topics, "exact sync, queue 10");
+  EXPECT_NE(text.find("\n   /cam/rgb/image [sensor_msgs/Image]: 9 received, last stamp 155.500000"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\n   /scan [sensor_msgs/LaserScan]: stopped, nothing since the last synchronised set, last "
+                      "stamp 150.500000 (290 received in all)"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("nothing received"), std::string::npos) << text;
+  EXPECT_EQ(text.find("Make sure every topic above is published"), std::string::npos) << text;
+  EXPECT_NE(text.find("A topic above stopped"), std::string::npos) << text;
+  EXPECT_EQ(text.find("too far apart"), std::string::npos) << text;
 }
 
 TEST(SyncTopics, ImageTransportsPickTheCompressedTopics) {

@@ -75,17 +75,19 @@ std::vector<TopicSlot> selectTopics(const SubscribeOptions& options, std::string
 // "approx sync, queue 10, max interval 0.020 s" / "exact sync, queue 10".
 std::string describePolicy(const SubscribeOptions& options);
 
-// What arrived on one subscribed topic since the last synchronised set.
+// What arrived on one subscribed topic since the last synchronised set, and since the start.
 struct TopicStatus {
   std::string topic;  // resolved name
   std::string type;
-  int received = 0;
-  double lastStamp = 0.0;  // header stamp of the last one (seconds); meaningful if received > 0
+  int received = 0;        // since the last synchronised set
+  long receivedEver = 0;   // since the node started
+  double lastStamp = 0.0;  // header stamp of the last one (seconds); meaningful if receivedEver > 0
 };
 
 // The warning a node logs when no synchronised set came out for `seconds`: the node, each
 // subscribed topic with its type and what arrived, the sync policy, and the likely cause
-// (a silent topic, or stamps too far apart for the policy).
+// (a topic never published or not remapped, a topic that stopped, or stamps too far apart for
+// the policy). A topic that stopped shows its last stamp: the moment the sensor went silent.
 std::string noDataWarning(const std::string& node, double seconds, const std::vector<TopicStatus>& topics,
                           const std::string& policy);
 
