@@ -15,7 +15,7 @@ suites=(test_features test_registration test_odometry test_optimizer test_bayes 
         test_maps:'OctoMapVoxelBitset.*:OctoMapRayCaster.*:OccupancyGrid.*:LocalGridDepth.*'
         test_db:'DatabaseErrors.*'
         test_memory:'EpipolarCheck.*'
-        test_slam:'NeighborLinkRefining.*:GlobalScanMapLocalization.*'
+        test_slam:'NeighborLinkRefining.*:GlobalScanMapLocalization.*:IntermediateNodes.NeighbourLinkRefining*'
         test_sim:'SimRandom.*:SimMaterials.*:SimDecals.*:SimPng.*:SimOdometry.*:SimImu.*:SimMotion.*:SimScenarios.*:SimBuilding.*')
 for s in "${suites[@]}"; do
   [[ -x "$dir/${s%%:*}" ]] || { echo "test-draws: $dir/${s%%:*} not built" >&2; exit 2; }

@@ -343,6 +343,13 @@ std::vector<int> Database::nodeIds() const {
   return queries::nodeIds(*impl_->reader);
 }
 
+std::vector<int> Database::intermediateNodeIds() const {
+  impl_->requireOpen();
+  impl_->waitForWriter();
+  std::lock_guard<std::mutex> lock(impl_->readMutex);
+  return queries::intermediateNodeIds(*impl_->reader);
+}
+
 std::map<int, Signature> Database::loadAllNodeHeaders() const {
   impl_->requireOpen();
   impl_->waitForWriter();

@@ -55,6 +55,13 @@ std::vector<int> nodeIds(Connection& c) {
   return ids;
 }
 
+std::vector<int> intermediateNodeIds(Connection& c) {
+  std::vector<int> ids;
+  Query q = c.query("SELECT id FROM Node WHERE weight = -1 ORDER BY id");
+  while (q->step()) ids.push_back(q->columnInt(0));
+  return ids;
+}
+
 std::map<int, Signature> nodeHeaders(Connection& c) {
   std::map<int, Signature> nodes;
   Query q = c.query(std::string("SELECT ") + load::kNodeColumns + " FROM Node ORDER BY id");
@@ -131,6 +138,7 @@ DatabaseSummary summary(Connection& c) {
       s.nodes += q->columnInt64(1);
     }
   }
+  s.intermediateNodes = c.scalar("SELECT count(*) FROM Node WHERE weight = -1");
   const std::vector<SessionInfo> infos = sessions(c);
   for (size_t i = 0; i < infos.size(); ++i) {
     // A session owns the map ids from its first one up to the next session's first one.

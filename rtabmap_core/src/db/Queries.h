@@ -15,6 +15,7 @@ class Connection;
 namespace queries {
 
 std::vector<int> nodeIds(Connection& c);
+std::vector<int> intermediateNodeIds(Connection& c);
 std::map<int, Signature> nodeHeaders(Connection& c);
 std::multimap<int, Link> allLinks(Connection& c, bool bothDirections);
 std::map<int, std::string> labels(Connection& c);

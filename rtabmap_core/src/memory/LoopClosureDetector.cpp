@@ -133,7 +133,7 @@ void LoopClosureDetector::retrieveNeighbors(int highestId, LoopClosureUpdate& u,
 void LoopClosureDetector::manageMemory(const std::set<int>& immune, double elapsedMs, size_t vocabularyAtStart,
                                        LoopClosureUpdate& u) {
   const bool overTime = options_.timeThr > 0.0f && elapsedMs > options_.timeThr;
-  const bool overSize = options_.memoryThr > 0 && static_cast<int>(memory_.wm().size()) > options_.memoryThr;
+  const bool overSize = options_.memoryThr > 0 && memory_.wmLocations() > options_.memoryThr;
   if (ltm_ && (overTime || overSize)) {
     const auto t = Clock::now();
     // As many words leave the vocabulary as entered it in this update (new and retrieved words).

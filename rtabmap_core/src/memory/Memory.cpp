@@ -76,10 +76,36 @@ Memory::Memory(const MemoryOptions& options, db::Database* ltm)
     // A new session continues the ids of the database (multi-session maps share id spaces).
     lastId_ = ltm_->lastNodeId();
     vocabulary_.setLastWordId(ltm_->lastWordId());
+    intermediateIds_ = ltm_->intermediateNodeIds();
   }
 }
 
 Memory::~Memory() = default;
+
+bool Memory::isIntermediate(int id) const {
+  auto it = signatures_.find(id);
+  if (it != signatures_.end()) return it->second.isIntermediate();
+  return std::binary_search(intermediateIds_.begin(), intermediateIds_.end(), id);
+}
+
+int Memory::wmLocations() const {
+  int inStm = 0;
+  for (int id : stm_) inStm += signatures_.at(id).isIntermediate() ? 1 : 0;
+  return static_cast<int>(wm_.size()) - (intermediatesInRam_ - inStm);
+}
+
+void Memory::insertInRam(Signature&& s) {
+  if (s.isIntermediate()) ++intermediatesInRam_;
+  const int id = s.id();
+  signatures_.emplace(id, std::move(s));
+}
+
+void Memory::eraseFromRam(int id) {
+  auto it = signatures_.find(id);
+  if (it == signatures_.end()) return;
+  if (it->second.isIntermediate()) --intermediatesInRam_;
+  signatures_.erase(it);
+}
 
 Signature& Memory::at(int id) {
   auto it = signatures_.find(id);
@@ -99,8 +125,9 @@ Signature* Memory::mutableSignature(int id) {
 
 MemorySummary Memory::summary() const {
   MemorySummary s;
-  s.stmSize = static_cast<int>(stm_.size());
-  s.wmSize = static_cast<int>(wm_.size());
+  s.wmSize = wmLocations();
+  s.stmSize = static_cast<int>(stm_.size() + wm_.size()) - intermediatesInRam_ - s.wmSize;
+  s.intermediatesInRam = intermediatesInRam_;
   s.vocabularySize = static_cast<int>(vocabulary_.size());
   s.lastLocationId = lastId_;
   s.lastGlobalLoopClosureId = lastGlobalLoopClosureId_;
@@ -168,6 +195,7 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
                                 std::to_string(lastId_));
   }
   const int id = in.id != 0 ? in.id : lastId_ + 1;
+  if (in.intermediate) return addIntermediate(in, id);
   const std::vector<int> wordIds = vocabulary_.quantize(in.descriptors, id);
   std::multimap<int, int> words;
   for (size_t i = 0; i < wordIds.size(); ++i) {
@@ -214,23 +242,12 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
   for (const Link& l : landmarkLinksOf(id, in.data.landmarks(), &refused)) fresh.addLink(l);
   for (const std::string& r : refused) RTABMAP_WARN(r);
 
-  // Neighbour link to the previous location (odometry between them, identity without poses).
-  // The location the last update left (the kept one after a rehearsal merge), if still in RAM.
-  const int previousId = signatures_.count(previousId_) ? previousId_ : 0;
-  if (previousId) {
-    Signature& previous = at(previousId);
-    Transform t = Transform::Identity();
-    if (!previous.getPose().isNull() && !fresh.getPose().isNull()) t = previous.getPose().inverse() * fresh.getPose();
-    if (previous.mapId() == fresh.mapId()) {
-      addLinkBetween(previous, fresh, Link(previousId, id, Link::kNeighbor, t, in.odomInformation));
-    }
-    result.rehearsalSimilarity = vocabulary::similarity(previous.getWords(), fresh.getWords());
-    result.moving = isMoving(previous, fresh);
-  }
+  const int previousId = linkToPrevious(fresh, in, result);
   previousOfLast_ = previousId;
   result.id = id;
   lastId_ = id;
-  auto inserted = signatures_.emplace(id, std::move(fresh)).first;
+  insertInRam(std::move(fresh));
+  auto inserted = signatures_.find(id);
   stm_.insert(id);
   // Rehearsal merges consecutive views of one place, never across maps (a new session's first
   // location is not the same place as the previous session's last, whatever it looks like).
@@ -245,6 +262,45 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
     }
   }
   previousId_ = result.id;
+  moveStmOverflowToWm();
+  return result;
+}
+
+// Neighbour link to the previous location (odometry between them, identity without poses):
+// the location the last update left (the kept one after a rehearsal merge), if still in RAM.
+int Memory::linkToPrevious(Signature& fresh, const LocationInput& in, AddResult& result) {
+  const int previousId = signatures_.count(previousId_) ? previousId_ : 0;
+  if (!previousId) return 0;
+  Signature& previous = at(previousId);
+  Transform t = Transform::Identity();
+  if (!previous.getPose().isNull() && !fresh.getPose().isNull()) t = previous.getPose().inverse() * fresh.getPose();
+  if (previous.mapId() == fresh.mapId()) {
+    addLinkBetween(previous, fresh, Link(previousId, fresh.id(), Link::kNeighbor, t, in.odomInformation));
+  }
+  result.rehearsalSimilarity = vocabulary::similarity(previous.getWords(), fresh.getWords());
+  result.moving = isMoving(previous, fresh);
+  return previousId;
+}
+
+// An intermediate node (Rtabmap/CreateIntermediateNodes): the pose and data of a frame between
+// two updates, linked in the chain of neighbours. No words, so nothing to rehearse or detect;
+// it waits in STM for the location that follows it and goes to WM and the LTM before it.
+AddResult Memory::addIntermediate(const LocationInput& in, int id) {
+  AddResult result;
+  result.badSignature = true;
+  Signature fresh(id, in.mapId, Signature::kIntermediateWeight, in.stamp, std::string(), in.pose,
+                  in.data.groundTruth(), in.data);
+  fresh.setBadSignature(true);
+  if (std::optional<Link> gravity = gravityLinkOf(id, in.pose, in.data.imu(), options_.useOdomGravity)) {
+    fresh.addLink(*gravity);
+  }
+  previousOfLast_ = linkToPrevious(fresh, in, result);
+  result.id = id;
+  lastId_ = id;
+  insertInRam(std::move(fresh));
+  stm_.insert(id);
+  intermediateIds_.push_back(id);  // ids only grow: the vector stays sorted
+  previousId_ = id;
   moveStmOverflowToWm();
   return result;
 }
@@ -289,7 +345,7 @@ void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) 
   result.id = kept.id();
   stm_.erase(removedId);
   wm_.erase(removedId);  // with Mem/STMSize 0 the previous location is already in WM
-  signatures_.erase(removedId);
+  eraseFromRam(removedId);
 }
 
 bool Memory::isMoving(const Signature& previous, const Signature& fresh) const {
@@ -323,9 +379,10 @@ void Memory::removeLastLocation() {
     wordsSum_ -= words;
     --wordsLocations_;
   }
+  if (s.isIntermediate() && !intermediateIds_.empty() && intermediateIds_.back() == lastId_) intermediateIds_.pop_back();
   stm_.erase(lastId_);
   wm_.erase(lastId_);
-  signatures_.erase(it);
+  eraseFromRam(lastId_);
   previousId_ = signatures_.count(previousOfLast_) ? previousOfLast_ : 0;
 }
 
@@ -364,9 +421,14 @@ bool Memory::setLabel(int id, const std::string& label) {
   return true;
 }
 
+// Intermediate nodes do not count: STM holds the Mem/STMSize newest locations and the
+// intermediate nodes among them, which go to WM right before the location that follows them.
 void Memory::moveStmOverflowToWm() {
-  while (static_cast<int>(stm_.size()) > options_.stmSize) {
+  int locations = 0;
+  for (int id : stm_) locations += signatures_.at(id).isIntermediate() ? 0 : 1;
+  while (locations > options_.stmSize) {
     const int oldest = *stm_.begin();
+    if (!signatures_.at(oldest).isIntermediate()) --locations;
     stm_.erase(stm_.begin());
     wm_[oldest] = updateCounter_;
     if (ltm_) saveToLtm(at(oldest));
@@ -435,7 +497,8 @@ std::vector<std::pair<int, float>> Memory::likelihoodScores(int id) const {
     if (wmId != id && !c.isBadSignature()) candidates.emplace_back(wmId, static_cast<int>(c.getWords().size()));
   }
   return vocabulary::computeLikelihoodScores(vocabulary_, s->getWords(), candidates,
-                                             static_cast<int>(signatures_.size()), options_.tfIdf);
+                                             static_cast<int>(signatures_.size()) - intermediatesInRam_,
+                                             options_.tfIdf);
 }
 
 std::map<int, int> Memory::neighbors(int id, int maxDepth) const {
@@ -443,11 +506,18 @@ std::map<int, int> Memory::neighbors(int id, int maxDepth) const {
   if (!signatures_.count(id)) return depth;
   depth[id] = 0;
   std::vector<int> frontier{id};
+  std::set<int> passed;  // intermediate nodes walked through
   for (int d = 1; d <= maxDepth && !frontier.empty(); ++d) {
     std::vector<int> next;
-    for (int n : frontier) {
+    std::vector<int> expand = frontier;  // grows with the intermediate nodes walked through
+    for (size_t k = 0; k < expand.size(); ++k) {
+      const int n = expand[k];
       for (const auto& [to, link] : signatures_.at(n).getLinks()) {
         if (to <= 0 || to == n || link.type() == Link::kVirtualClosure || !signatures_.count(to)) continue;
+        if (signatures_.at(to).isIntermediate() && to != id) {
+          if (passed.insert(to).second) expand.push_back(to);  // same depth beyond it
+          continue;
+        }
         if (depth.emplace(to, d).second) next.push_back(to);
       }
     }
@@ -462,8 +532,10 @@ void Memory::addLoopClosure(const Link& link) {
   addLinkBetween(a, b, link);
   Signature& newer = a.id() > b.id() ? a : b;
   Signature& older = a.id() > b.id() ? b : a;
-  newer.setWeight(newer.weight() + older.weight());
-  older.setWeight(0);
+  if (!newer.isIntermediate() && !older.isIntermediate()) {  // -1 marks them, it is no weight
+    newer.setWeight(newer.weight() + older.weight());
+    older.setWeight(0);
+  }
   lastGlobalLoopClosureId_ = std::max(lastGlobalLoopClosureId_, newer.id());
 }
 

@@ -15,10 +15,10 @@ namespace rtabmap::memory {
 // closure would connect to next, so they stay.
 std::set<int> Memory::recentWm() const {
   std::set<int> recent;
-  const size_t maxRecent = static_cast<size_t>(options_.recentWmRatio * static_cast<float>(wm_.size()));
+  const size_t maxRecent = static_cast<size_t>(options_.recentWmRatio * static_cast<float>(wmLocations()));
   for (auto it = wm_.rbegin(); it != wm_.rend() && recent.size() < maxRecent; ++it) {
     if (it->first <= lastGlobalLoopClosureId_) break;
-    recent.insert(it->first);
+    if (!signatures_.at(it->first).isIntermediate()) recent.insert(it->first);
   }
   return recent;
 }
@@ -28,7 +28,7 @@ std::vector<int> Memory::transferCandidates(const std::set<int>& immune) const {
   std::vector<int> candidates;
   for (const auto& [id, age] : wm_) {
     (void)age;
-    if (!immune.count(id) && !recent.count(id)) candidates.push_back(id);
+    if (!immune.count(id) && !recent.count(id) && !signatures_.at(id).isIntermediate()) candidates.push_back(id);
   }
   // Lowest weight first; among equal weights the oldest: by time in WM (a retrieved location
   // is young again) or by id (Mem/TransferSortingByWeightId).
@@ -45,23 +45,54 @@ std::vector<int> Memory::transferCandidates(const std::set<int>& immune) const {
 TransferResult Memory::transfer(const std::set<int>& immune, int minWordsRemoved, int maxWmSize, bool atLeastOne) {
   if (!ltm_) throw std::logic_error("Memory::transfer: no long-term memory (database) is attached");
   TransferResult result;
-  for (int id : transferCandidates(immune)) {
-    const bool wordsOk = result.wordsRemoved >= minWordsRemoved;
-    const bool sizeOk = maxWmSize <= 0 || static_cast<int>(wm_.size()) <= maxWmSize;
-    const bool countOk = !atLeastOne || !result.transferred.empty();
-    if (wordsOk && sizeOk && countOk) break;
+  // One location, then the intermediate nodes before it. False when the LTM refused it (disk
+  // full...): it stays in WM rather than being lost, and so do the others (WM grows beyond its
+  // budget; the map is complete).
+  const auto moveToLtm = [&](int id) {
     Signature& s = at(id);
     if (!s.isSaved() || s.isModified() || s.isLinksModified()) saveToLtm(s);
-    // Refused by the LTM (disk full...): it stays in WM rather than being lost, and so do the
-    // others (WM grows beyond its budget; the map is complete).
-    if (!s.isSaved() || s.isModified() || s.isLinksModified()) break;
+    if (!s.isSaved() || s.isModified() || s.isLinksModified()) return false;
     result.wordsRemoved += removeFromVocabulary(id, s.getWords());
     wm_.erase(id);
-    signatures_.erase(id);
+    eraseFromRam(id);
     result.transferred.push_back(id);
+    return true;
+  };
+  int transferredLocations = 0;
+  for (int id : transferCandidates(immune)) {
+    const bool wordsOk = result.wordsRemoved >= minWordsRemoved;
+    const bool sizeOk = maxWmSize <= 0 || wmLocations() <= maxWmSize;
+    const bool countOk = !atLeastOne || transferredLocations > 0;
+    if (wordsOk && sizeOk && countOk) break;
+    const std::vector<int> before = intermediatesBefore(id);
+    if (!moveToLtm(id)) break;
+    ++transferredLocations;
+    bool refused = false;
+    for (int i : before) {
+      if (immune.count(i)) break;
+      if (!moveToLtm(i)) {
+        refused = true;
+        break;
+      }
+    }
+    if (refused) break;
   }
-  transferredTotal_ += static_cast<int>(result.transferred.size());
+  transferredTotal_ += transferredLocations;
   return result;
+}
+
+std::vector<int> Memory::intermediatesBefore(int id) const {
+  std::vector<int> chain;
+  for (int n = id;;) {
+    int previous = 0;
+    for (const auto& [to, link] : signatures_.at(n).getLinks()) {
+      if (link.type() == Link::kNeighbor && to < n && wm_.count(to) && signatures_.at(to).isIntermediate()) previous = to;
+    }
+    if (!previous) break;
+    chain.push_back(previous);
+    n = previous;
+  }
+  return chain;
 }
 
 // Words of the retrieved locations that left the vocabulary, all locations of a retrieval at
@@ -112,15 +143,23 @@ std::vector<int> Memory::retrieve(int id) {
   // neighbours in time (neighbour links) come before the neighbours in space (loop closures).
   std::set<int> seen{id};
   std::vector<int> frontier{id};
+  std::vector<int> passed;  // intermediate nodes walked through, in LTM
   for (int d = 1; d <= options_.neighborhoodDepth && !frontier.empty() &&
                   static_cast<int>(toLoad.size()) < options_.maxRetrieved;
        ++d) {
     std::vector<int> inTime, inSpace;
-    for (int n : frontier) {
+    std::vector<int> expand = frontier;  // grows with the intermediate nodes walked through
+    for (size_t k = 0; k < expand.size(); ++k) {
+      const int n = expand[k];
       const Signature* s = signature(n);
       const std::multimap<int, Link> links = s ? s->getLinks() : ltm_->loadLinks(n);
       for (const auto& [to, link] : links) {
         if (to <= 0 || to == n || link.type() == Link::kVirtualClosure || !seen.insert(to).second) continue;
+        if (isIntermediate(to)) {  // no distance: what lies beyond is at this depth
+          if (!signatures_.count(to)) passed.push_back(to);
+          expand.push_back(to);
+          continue;
+        }
         const bool time = link.type() == Link::kNeighbor || link.type() == Link::kNeighborMerged;
         (time ? inTime : inSpace).push_back(to);
       }
@@ -132,7 +171,9 @@ std::vector<int> Memory::retrieve(int id) {
       if (!signatures_.count(n)) toLoad.push_back(n);
     }
   }
-  return retrieveIds(toLoad);
+  std::vector<int> retrieved = retrieveIds(toLoad);
+  if (!passed.empty()) retrieveIds(passed);  // not counted: they are no locations
+  return retrieved;
 }
 
 std::vector<int> Memory::retrieveIds(const std::vector<int>& ids) {
@@ -151,11 +192,16 @@ std::vector<int> Memory::retrieveIds(const std::vector<int>& ids) {
   requantize(loaded);  // marks a location modified if a word id changed: saved again when it leaves
   for (Signature& s : loaded) {
     const int sid = s.id();
-    signatures_.emplace(sid, std::move(s));
+    const bool intermediate = s.isIntermediate();
+    insertInRam(std::move(s));
     wm_[sid] = updateCounter_;
     retrieved.push_back(sid);
+    if (intermediate && !std::binary_search(intermediateIds_.begin(), intermediateIds_.end(), sid)) {
+      intermediateIds_.insert(std::upper_bound(intermediateIds_.begin(), intermediateIds_.end(), sid), sid);
+    }
   }
-  retrievedTotal_ += static_cast<int>(retrieved.size());
+  retrievedTotal_ += static_cast<int>(std::count_if(retrieved.begin(), retrieved.end(),
+                                                    [this](int r) { return !signatures_.at(r).isIntermediate(); }));
   return retrieved;
 }
 

@@ -33,7 +33,7 @@ std::set<int> candidatesOf(const memory::Memory& memory, int currentId, const st
   std::set<int> out;
   for (const auto& [id, distance] : near) {
     (void)distance;
-    if (id == currentId || memory.stm().count(id) || !memory.inRam(id)) continue;
+    if (id == currentId || memory.stm().count(id) || !memory.inRam(id) || memory.isIntermediate(id)) continue;
     if (o.proximityMaxGraphDepth > 0 && !depth.count(id)) continue;
     if (s && s->hasLink(id)) continue;
     out.insert(id);
@@ -94,6 +94,33 @@ Transform correlativeProximityGuess(const LaserScan& merged, const LaserScan& sc
   return Transform(r.pose.x(), r.pose.y(), 0.0f, 0.0f, 0.0f, r.pose.z());
 }
 
+namespace {
+
+// The nodes linked to `id` by neighbour links, through any chain of intermediate nodes
+// (Rtabmap/CreateIntermediateNodes) in RAM: a path of the local map is of nodes, whatever lies
+// between them.
+std::vector<int> linkedThroughIntermediates(const memory::Memory& memory, int id) {
+  std::vector<int> out;
+  std::set<int> passed;
+  std::vector<int> expand{id};
+  while (!expand.empty()) {
+    const Signature* s = memory.signature(expand.back());
+    expand.pop_back();
+    if (!s) continue;
+    for (const auto& [to, link] : s->getLinks()) {
+      if (!isNeighborType(link.type()) || to == id) continue;
+      if (memory.inRam(to) && memory.isIntermediate(to)) {
+        if (passed.insert(to).second) expand.push_back(to);
+      } else {
+        out.push_back(to);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const std::set<int>& candidates) {
   std::vector<std::vector<int>> paths;
   std::set<int> done;
@@ -107,10 +134,8 @@ std::vector<std::vector<int>> proximityPaths(const memory::Memory& memory, const
       const int id = stack.back();
       stack.pop_back();
       path.push_back(id);
-      const Signature* s = memory.signature(id);
-      if (!s) continue;
-      for (const auto& [to, link] : s->getLinks()) {
-        if (!isNeighborType(link.type()) || !candidates.count(to) || !done.insert(to).second) continue;
+      for (int to : linkedThroughIntermediates(memory, id)) {
+        if (!candidates.count(to) || !done.insert(to).second) continue;
         stack.push_back(to);
       }
     }

@@ -15,7 +15,10 @@ ProximityByTimeResult detectProximityByTime(memory::Memory& memory, int newId, c
   for (auto it = memory.stm().rbegin(); it != memory.stm().rend(); ++it) {
     const int id = *it;
     Signature* other = id == newId ? nullptr : memory.mutableSignature(id);
-    if (!other || other->mapId() != current->mapId() || current->hasLink(id) || !poses.count(id)) continue;
+    if (!other || other->isIntermediate() || other->mapId() != current->mapId() || current->hasLink(id) ||
+        !poses.count(id)) {
+      continue;
+    }
     ++result.checked;
     RegistrationInfo info;
     const Transform guess = poses.at(newId).inverse() * poses.at(id);  // new -> STM node

@@ -46,6 +46,7 @@ Transform Rtabmap::mapCorrection() const { return impl_->mapCorrection; }
 Transform Rtabmap::currentPose() const { return impl_->currentPose; }
 int Rtabmap::mapId() const { return impl_->mapId; }
 int Rtabmap::lastNodeId() const { return impl_->lastNodeId; }
+int Rtabmap::newestNodeId() const { return impl_->lastChainId; }
 
 std::map<int, Transform> Rtabmap::optimizedPoses() const {
   const std::map<int, Transform> current = impl_->graph.posesOfGroup(impl_->mapId);

@@ -170,7 +170,7 @@ void Rtabmap::Impl::retrieveNearRobot(const Transform& pose, memory::LoopClosure
   memory::Memory& memory = detector->memory();
   std::map<int, Transform> inLtm;
   for (const auto& [id, p] : graph.posesOfGroup(mapId)) {
-    if (!memory.inRam(id)) inLtm.emplace(id, p);
+    if (!memory.inRam(id) && !memory.isIntermediate(id)) inLtm.emplace(id, p);  // locations only
   }
   if (inLtm.empty()) return;
   std::vector<int> wanted;
@@ -189,11 +189,11 @@ std::set<int> Rtabmap::Impl::localImmunity(const Transform& pose) const {
   std::set<int> immune;
   if (pose.isNull()) return immune;
   const memory::Memory& memory = detector->memory();
-  const size_t maxImmune = static_cast<size_t>(options.localImmunizationRatio * static_cast<float>(memory.wm().size()));
+  const size_t maxImmune = static_cast<size_t>(options.localImmunizationRatio * static_cast<float>(memory.wmLocations()));
   if (maxImmune == 0) return immune;
   std::map<int, Transform> wmPoses;
   for (const auto& [id, p] : ramPosesOfGroup()) {
-    if (memory.wm().count(id)) wmPoses.emplace(id, p);
+    if (memory.wm().count(id) && !memory.isIntermediate(id)) wmPoses.emplace(id, p);
   }
   for (const auto& [id, distance] :
        graph::findNearestNodes(wmPoses, pose, static_cast<int>(maxImmune), options.force3DoF)) {

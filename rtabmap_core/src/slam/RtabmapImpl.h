@@ -83,6 +83,10 @@ struct Rtabmap::Impl {
   Transform mapCorrection = Transform::Identity();
   Transform lastOdom;          // odometry pose of the last accepted input
   Transform lastNodeOdom;      // odometry pose of the last node of the current map
+  // ... of the last node or intermediate node (Rtabmap/CreateIntermediateNodes): a new
+  // intermediate node needs motion since it.
+  Transform lastChainOdom;
+  int lastChainId = 0;
   int lastNodeId = 0;          // last node of the current map
   double lastStamp = 0.0;      // stamp of the last accepted input
   double lastUpdateStamp = -1.0;  // stamp of the last update that passed the rate limit
@@ -138,6 +142,9 @@ struct Rtabmap::Impl {
   bool isStill(const Transform& odom) const;
   bool tooFast(const Transform& odom, double stamp) const;
   bool mappingUpdate(const SensorData& data, const Transform& odom);
+  // Rtabmap/CreateIntermediateNodes: a frame the rate skipped, kept as an intermediate node if
+  // the map has started and the robot moved since the last node (true if added).
+  bool addIntermediateNode(const SensorData& data, const Transform& odom);
   // Rtabmap/StartNewMapOnLoopClosure: the first node of the current map taken back.
   void discardFirstNode(int id);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
@@ -161,8 +168,19 @@ struct Rtabmap::Impl {
 
   // RtabmapNode.cpp: what a new node is made of.
   memory::LocationInput makeLocation(const SensorData& data, const Transform& odom, const Covariance6& covariance);
+  // An intermediate node's: the data per Mem/IntermediateNodeDataKept, no words nor grid.
+  memory::LocationInput makeIntermediateLocation(const SensorData& data, const Transform& odom,
+                                                 const Covariance6& covariance);
   void extractWords(const SensorData& data, memory::LocationInput& in);
   void refineNeighborLink(int newId);
+  // Rtabmap/CreateIntermediateNodes: the node before the intermediate nodes that end with
+  // `previousId`, then them, oldest first ({previousId} if it is no intermediate node; empty if
+  // the chain leaves RAM or starts the map).
+  std::vector<int> chainToPreviousNode(int previousId) const;
+  // The odometry from chain[0] to newId through the chain's neighbour links (covariances summed).
+  Link chainOdometry(const std::vector<int>& chain, int newId) const;
+  void spreadOverChain(const std::vector<int>& chain, int newId, const Transform& odometry,
+                       const Transform& refined, const Link::InfMatrix& information);
   // RGBD/ProximityByTime (ProximityByTime.h): the links added to memory, for the optimisation.
   std::vector<Link> proximityByTime(int newId);
   // Registration of an accepted hypothesis; the link, or nullopt (rejected, reason logged).

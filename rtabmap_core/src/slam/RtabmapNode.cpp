@@ -1,6 +1,10 @@
 // What a new node is made of (Algorithm 2 with the metric parts of JFR 2019, 3.2): visual
 // words, local occupancy grid, compressed sensor data, odometry pose and link information; and
 // the registrations that give links their transforms.
+#include <Eigen/LU>
+
+#include <algorithm>
+
 #include "OdometryPrior.h"
 #include "ProximityByTime.h"
 #include "RtabmapImpl.h"
@@ -112,6 +116,48 @@ Link::InfMatrix refinedInformation(const RegistrationInfo& info, const Link& odo
 }
 }  // namespace
 
+// Mem/IntermediateNodeDataKept false: the pose is the node (the data's stamp, ground truth and
+// IMU stay: the trajectory's evaluation and the gravity link use them). True: the data as a
+// node keeps it, compressed, without what only detection uses (words, grid, markers).
+memory::LocationInput Rtabmap::Impl::makeIntermediateLocation(const SensorData& raw, const Transform& odom,
+                                                              const Covariance6& covariance) {
+  memory::LocationInput in;
+  in.intermediate = true;
+  if (options.intermediateNodeDataKept) {
+    SensorData data = raw;
+    if (scanFilter.active() && !data.laserScanRaw().empty()) {
+      std::string why;
+      const LaserScan filtered = filterScan(data.laserScanRaw(), scanFilter, &why);
+      if (!filtered.empty()) data.setLaserScan(filtered);
+    }
+    data = decimateImages(data, options.imagePostDecimation);
+    if (options.saveDepth16 && !data.isStereo() && data.depthOrRightRaw().type() == CV_32FC1) {
+      data.setRGBDImage(data.imageRaw(), depthToMillimetres(data.depthOrRightRaw()), data.cameraModels());
+    }
+    data.setFeatures({}, {}, cv::Mat());
+    data.setLandmarks({});  // carried to the next update's node
+    data.compress(options.imageFormat);
+    if (!options.imageKept) {
+      const LaserScan scan = data.laserScanRaw();
+      data.clearRaw();
+      data.setLaserScan(scan);
+    }
+    in.data = data;
+  } else {
+    SensorData pose;
+    pose.setStamp(raw.stamp());
+    pose.setGroundTruth(raw.groundTruth());
+    pose.setIMU(raw.imu());
+    in.data = pose;
+  }
+  if (!options.generateIds && options.incremental) in.id = raw.id();
+  in.pose = odom;
+  in.stamp = raw.stamp();
+  in.mapId = mapId;
+  in.odomInformation = informationOf(covariance, options.covOffDiagIgnored);
+  return in;
+}
+
 // RGBD/NeighborLinkRefining: the odometry link to the previous node re-estimated by
 // registration (ICP on scans typically), from odometry as guess. Wheel odometry drifts; the
 // scans do not, except along what they do not see (a corridor's axis), where
@@ -123,10 +169,13 @@ void Rtabmap::Impl::refineNeighborLink(int newId) {
   StageTimer timer(stats, Statistics::kTimingNeighbor_link_refining);
   for (const auto& [to, link] : std::multimap<int, Link>(current->getLinks())) {
     if (link.type() != Link::kNeighbor || to >= newId) continue;
-    Signature* previous = memory.mutableSignature(to);
-    if (!previous) continue;
+    // After intermediate nodes, the registration is with the node before them (they have no
+    // data, or less than a node), and the correction is spread over the chain.
+    const std::vector<int> chain = chainToPreviousNode(to);
+    if (chain.empty()) continue;
+    Signature* previous = memory.mutableSignature(chain.front());
     RegistrationInfo info;
-    const Link forward = link.inverse();  // previous -> new
+    const Link forward = chain.size() == 1 ? link.inverse() : chainOdometry(chain, newId);  // previous -> new
     Transform t = registration->compute(*previous, *current, forward.transform(), &info);
     if (t.isNull() && registration->usesVision() && registration->usesScans()) {
       // Visual then ICP (Reg/Strategy 2): in a turn the two images share too few features for
@@ -143,9 +192,81 @@ void Rtabmap::Impl::refineNeighborLink(int newId) {
     stats.addStatistic(Statistics::kNeighborLinkRefiningICP_inliers_ratio, static_cast<float>(info.icpInliersRatio));
     const Link::InfMatrix information = refinedInformation(info, forward, options.covOffDiagIgnored);
     t = fuseWithOdometryPrior(t, information, forward.transform(), options.neighborLinkRefiningPrior);
-    memory.addLink(Link(to, newId, Link::kNeighbor, t, information));
-    const Transform previousPose = graph.pose(to);
-    if (!previousPose.isNull()) graph.setPose(newId, mapId, previousPose * t);
+    if (chain.size() == 1) {
+      memory.addLink(Link(to, newId, Link::kNeighbor, t, information));
+      const Transform previousPose = graph.pose(to);
+      if (!previousPose.isNull()) graph.setPose(newId, mapId, previousPose * t);
+    } else {
+      spreadOverChain(chain, newId, forward.transform(), t, information);
+    }
+  }
+}
+
+std::vector<int> Rtabmap::Impl::chainToPreviousNode(int previousId) const {
+  const memory::Memory& memory = detector->memory();
+  std::vector<int> chain{previousId};
+  while (true) {
+    const Signature* s = memory.signature(chain.back());
+    if (!s) return {};
+    if (!s->isIntermediate()) break;
+    int before = 0;
+    for (const auto& [to, link] : s->getLinks()) {
+      if (link.type() == Link::kNeighbor && to < s->id()) before = to;
+    }
+    if (!before) return {};  // the map starts with it (or the rest is in the LTM)
+    chain.push_back(before);
+  }
+  std::reverse(chain.begin(), chain.end());
+  return chain;
+}
+
+Link Rtabmap::Impl::chainOdometry(const std::vector<int>& chain, int newId) const {
+  const memory::Memory& memory = detector->memory();
+  Transform t = Transform::Identity();
+  Link::InfMatrix covariance = Link::InfMatrix::Zero();  // of links in series: the sum
+  for (size_t j = 0; j < chain.size(); ++j) {
+    const int next = j + 1 < chain.size() ? chain[j + 1] : newId;
+    const Signature* s = memory.signature(next);
+    for (const auto& [to, link] : s->getLinks()) {
+      if (link.type() != Link::kNeighbor || to != chain[j]) continue;
+      const Link forward = link.inverse();
+      t = t * forward.transform();
+      covariance += forward.infMatrix().inverse();
+    }
+  }
+  return Link(chain.front(), newId, Link::kNeighbor, t, covariance.inverse());
+}
+
+// The refined motion from chain[0] to newId, `refined`, replaces the odometry's, `odometry`,
+// over the intermediate nodes between them: each gets the share of the correction of the
+// distance travelled up to it (linear in translation, slerp in rotation), so the chain composes
+// to the refined motion and stays as smooth as the odometry. The refined covariance is split
+// over the n links (C/n each: in series they sum to C).
+void Rtabmap::Impl::spreadOverChain(const std::vector<int>& chain, int newId, const Transform& odometry,
+                                    const Transform& refined, const Link::InfMatrix& information) {
+  memory::Memory& memory = detector->memory();
+  std::vector<int> nodes = chain;
+  nodes.push_back(newId);
+  const Transform origin = memory.signature(nodes.front())->getPose();
+  std::vector<Transform> relative;  // odometry pose of each node in chain[0]'s frame
+  std::vector<double> travelled{0.0};
+  for (int id : nodes) relative.push_back(origin.inverse() * memory.signature(id)->getPose());
+  for (size_t j = 1; j < nodes.size(); ++j) {
+    travelled.push_back(travelled.back() + (relative[j - 1].inverse() * relative[j]).getNorm());
+  }
+  const double total = travelled.back();
+  const Transform correction = refined * odometry.inverse();
+  std::vector<Transform> corrected;
+  for (size_t j = 0; j < nodes.size(); ++j) {
+    const double share = total > 1e-9 ? travelled[j] / total : static_cast<double>(j) / (nodes.size() - 1);
+    corrected.push_back(Transform::Identity().interpolate(share, correction) * relative[j]);
+  }
+  corrected.back() = refined;  // exactly, whatever the rounding
+  const Link::InfMatrix split = information * static_cast<double>(nodes.size() - 1);
+  const Transform base = graph.pose(nodes.front());
+  for (size_t j = 1; j < nodes.size(); ++j) {
+    memory.addLink(Link(nodes[j - 1], nodes[j], Link::kNeighbor, corrected[j - 1].inverse() * corrected[j], split));
+    if (!base.isNull()) graph.setPose(nodes[j], mapId, base * corrected[j]);
   }
 }
 

@@ -10,6 +10,8 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   using P = Parameters;
   RtabmapOptions o;
   o.detectionRate = P::getFloat(p, P::kRtabmapDetectionRate());
+  o.createIntermediateNodes = P::getBool(p, P::kRtabmapCreateIntermediateNodes());
+  o.intermediateNodeDataKept = P::getBool(p, P::kMemIntermediateNodeDataKept());
   o.metric = P::getBool(p, P::kRGBDEnabled());
   o.incremental = P::getBool(p, P::kMemIncrementalMemory());
   o.linearUpdate = P::getFloat(p, P::kRGBDLinearUpdate());

@@ -192,6 +192,8 @@ void Rtabmap::Impl::startNewMap() {
   mapId = std::max(mapId, std::max(graph.mapOf(lastNodeId), db ? db->lastMapId() : 0)) + 1;
   mapCorrection = Transform::Identity();
   lastNodeOdom = Transform();
+  lastChainOdom = Transform();
+  lastChainId = 0;
   lastNodeId = 0;
   mergeLinks.clear();
   mergeArbiter.reset();

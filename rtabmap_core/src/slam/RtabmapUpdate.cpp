@@ -101,7 +101,8 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
   motionCovariance += covariance;
   if (!newMapPending && rateLimited(data.stamp())) {
     ++summary.skippedRate;
-    carryLandmarks(data, odom);
+    addIntermediateNode(data, odom);
+    carryLandmarks(data, odom);  // landmarks go to the next update's node all the same
     lastOdom = odom;
     if (data.stamp() > 0.0) lastStamp = data.stamp();
     return false;
@@ -143,6 +144,22 @@ bool Rtabmap::Impl::process(const SensorData& data, const Transform& odom, const
   return used;
 }
 
+bool Rtabmap::Impl::addIntermediateNode(const SensorData& data, const Transform& odom) {
+  if (!options.createIntermediateNodes || !options.incremental || !options.metric || lastNodeId == 0) return false;
+  if (!lastChainOdom.isNull()) {
+    const Transform motion = lastChainOdom.inverse() * odom;
+    if (motion.getNorm() < options.linearUpdate && std::fabs(motion.getAngle()) < options.angularUpdate) return false;
+  }
+  memory::LoopClosureUpdate u;
+  const memory::AddResult added = detector->addLocation(makeIntermediateLocation(data, odom, motionCovariance), u);
+  graph.setPose(added.id, mapId, mapCorrection * odom);
+  motionCovariance.setZero();  // the next node's neighbour link starts here
+  lastChainOdom = odom;
+  lastChainId = added.id;
+  ++summary.intermediateNodes;
+  return true;
+}
+
 // The first node of the current map taken back (Rtabmap/StartNewMapOnLoopClosure): the map is
 // as if the frame had not come.
 void Rtabmap::Impl::discardFirstNode(int id) {
@@ -151,6 +168,8 @@ void Rtabmap::Impl::discardFirstNode(int id) {
   labelCache.erase(id);
   lastNodeId = 0;
   lastNodeOdom = Transform();
+  lastChainOdom = Transform();
+  lastChainId = 0;
   --summary.nodesAdded;
   ++summary.skippedMapStart;
 }
@@ -198,6 +217,8 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     graph.setPose(newId, mapId, mapCorrection * odom);
     motionCovariance.setZero();
     lastNodeOdom = odom;
+    lastChainOdom = odom;
+    lastChainId = newId;
     lastNodeId = newId;
     ++summary.nodesAdded;
     if (firstOfMap && options.mapLabelsAdded) {
@@ -491,8 +512,13 @@ void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nod
   stats.addStatistic(Statistics::kTimingLikelihood_computation, static_cast<float>(u.likelihoodMs));
   stats.addStatistic(Statistics::kTimingPosterior_computation, static_cast<float>(u.posteriorMs));
   stats.addStatistic(Statistics::kTimingHypotheses_creation, static_cast<float>(u.hypothesisMs));
-  stats.addStatistic(Statistics::kMemoryWorking_memory_size, static_cast<float>(memory.wm().size()));
-  stats.addStatistic(Statistics::kMemoryShort_time_memory_size, static_cast<float>(memory.stm().size()));
+  // Locations: the intermediate nodes in RAM are counted on their own.
+  const memory::MemorySummary sizes = memory.summary();
+  stats.addStatistic(Statistics::kMemoryWorking_memory_size, static_cast<float>(sizes.wmSize));
+  stats.addStatistic(Statistics::kMemoryShort_time_memory_size, static_cast<float>(sizes.stmSize));
+  if (options.createIntermediateNodes) {
+    stats.addStatistic("Memory/Intermediate_nodes_in_RAM/", static_cast<float>(sizes.intermediatesInRam));
+  }
   stats.addStatistic(Statistics::kMemorySignatures_retrieved, static_cast<float>(u.retrieved.size()));
   stats.addStatistic(Statistics::kMemorySignatures_removed, static_cast<float>(u.transferred.size()));
   stats.addStatistic(Statistics::kKeypointDictionary_size, static_cast<float>(memory.vocabulary().size()));
@@ -526,7 +552,7 @@ void Rtabmap::Impl::finishStatistics(const memory::LoopClosureUpdate& u, int nod
   const Transform c = mapCorrection;
   stats.addStatistic(Statistics::kLoopOdom_correction_norm, static_cast<float>(c.getNorm()));
   stats.addStatistic(Statistics::kLoopOdom_correction_angle, static_cast<float>(c.getAngle() * 180.0 / M_PI));
-  summary.maxWmSize = std::max(summary.maxWmSize, static_cast<int>(memory.wm().size()));
+  summary.maxWmSize = std::max(summary.maxWmSize, memory.wmLocations());
 }
 
 }  // namespace rtabmap

@@ -4,6 +4,8 @@
 // place's words), a different place shares nothing.
 #include <opencv2/core.hpp>
 
+#include "common/TestData.h"
+#include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/memory/Memory.h"
 
 namespace rtabmap::memory::test {
@@ -37,5 +39,11 @@ inline LocationInput viewAt(int place, int visit, const Transform& pose) {
   in.pose = pose;
   return in;
 }
+
+// A Long-Term Memory: a database in a folder removed with it.
+struct WithLtm {
+  rtabmap::test::TempDir dir;
+  db::Database database{dir.file("ltm.db")};
+};
 
 }  // namespace rtabmap::memory::test

@@ -11,11 +11,7 @@ namespace rtabmap::memory {
 namespace {
 
 using test::view;
-
-struct WithLtm {
-  rtabmap::test::TempDir dir;
-  db::Database database{dir.file("ltm.db")};
-};
+using test::WithLtm;
 
 TEST(MemoryTransfer, LowestWeightThenOldestFirst) {
   WithLtm ltm;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "LidarRobot.h"
 #include "common/TestData.h"
 #include "registration/IcpTestScenes.h"
 #include "rtabmap_core/slam/Rtabmap.h"
@@ -15,19 +16,7 @@ namespace rtabmap {
 namespace {
 
 using Cov = Eigen::Matrix<double, 6, 6>;
-
-ParametersMap lidarRobot() {
-  return {{Parameters::kRtabmapDetectionRate(), "0"},
-          {Parameters::kRegStrategy(), "1"},
-          {Parameters::kRegForce3DoF(), "true"},
-          {Parameters::kRGBDNeighborLinkRefining(), "true"},
-          {Parameters::kRGBDProximityBySpace(), "false"},
-          {Parameters::kIcpPointToPlane(), "true"},
-          {Parameters::kIcpVoxelSize(), "0.05"},
-          {Parameters::kIcpMaxCorrespondenceDistance(), "0.3"},
-          {Parameters::kIcpIterations(), "30"},
-          {Parameters::kIcpMaxTranslation(), "1"}};
-}
+using test::lidarRobot;
 
 // The refined link between the robot's two nodes, after driving `step` along `world`.
 Link refinedLink(const test::World2D& world, const Transform& start, const Transform& step,

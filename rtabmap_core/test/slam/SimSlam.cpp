@@ -78,7 +78,16 @@ void runSimSlam(const std::string& folder, const ParametersMap& parameters, cons
   while (reader->next(record)) {
     if (record.kind != DatasetRecord::Kind::kFrame) continue;
     const SensorData& data = record.data;
-    if (!slam.process(data)) continue;
+    if (!slam.process(data)) {
+      // A frame kept as an intermediate node (Rtabmap/CreateIntermediateNodes).
+      const int newest = slam.newestNodeId();
+      if (newest > 0 && newest != slam.lastNodeId() && !run.odometry.count(newest)) {
+        run.odometry[newest] = data.odomPose();
+        if (!data.groundTruth().isNull()) run.groundTruth[newest] = data.groundTruth();
+        run.intermediate.insert(newest);
+      }
+      continue;
+    }
     const int id = slam.statistics().refImageId;
     if (id <= 0) continue;
     run.odometry[id] = data.odomPose();
@@ -92,6 +101,7 @@ void runSimSlam(const std::string& folder, const ParametersMap& parameters, cons
   run.lastMapId = slam.mapId();
   const SlamSummary s = slam.summary();
   run.summary.nodesAdded += s.nodesAdded;
+  run.summary.intermediateNodes += s.intermediateNodes;
   run.summary.loopClosures += s.loopClosures;
   run.summary.proximityLinks += s.proximityLinks;
   run.summary.timeLinks += s.timeLinks;

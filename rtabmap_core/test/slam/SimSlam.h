@@ -2,6 +2,7 @@
 // Test helpers of the SLAM tests: simulator datasets made once per test binary, and SLAM runs
 // over them that keep, per node, its optimised pose and its ground truth.
 #include <map>
+#include <set>
 #include <string>
 
 #include "common/TestData.h"
@@ -27,6 +28,7 @@ struct SimSlamRun {
   std::map<int, Transform> odometry;     // node id -> odometry pose at creation
   std::map<int, Transform> groundTruth;  // node id -> ground truth
   std::multimap<int, Link> links;        // every link of the map at the end
+  std::set<int> intermediate;            // the intermediate nodes (Rtabmap/CreateIntermediateNodes)
   int lastMapId = 0;
   int refused = 0;
   double lastGroundTruthRmse = -1.0;  // the last update's Gt/Translational_rmse/m (-1: none)

@@ -65,6 +65,32 @@ TEST(SimSlam, LoopClosesVisuallyThenLocalizesWithoutWriting) {
   EXPECT_FALSE(std::filesystem::exists(db + "-wal") && std::filesystem::file_size(db + "-wal") > 0);
 }
 
+// Rtabmap/CreateIntermediateNodes on the simulator's loop (2 Hz input, 1 Hz updates): every
+// other frame becomes an intermediate node; the loop closes as without them, and the optimised
+// graph places them as well as the nodes at the update rate (neighbour-link refining spread over
+// them, loop closures through them).
+TEST(SimSlam, IntermediateNodesAreAsAccurateAsTheUpdates) {
+  REQUIRE_SIM(folder, "loop");
+  ParametersMap p = test::simSlamParameters();
+  p["Rtabmap/CreateIntermediateNodes"] = "true";
+  SimSlamRun run;
+  test::runSimSlam(folder, p, "", run);
+  EXPECT_EQ(static_cast<int>(run.intermediate.size()), run.summary.intermediateNodes);
+  EXPECT_GT(run.summary.intermediateNodes, run.summary.nodesAdded / 2);
+  EXPECT_GE(run.summary.loopClosures, 5);
+  std::map<int, Transform> nodes, intermediate;
+  for (const auto& [id, pose] : run.optimized) (run.intermediate.count(id) ? intermediate : nodes).emplace(id, pose);
+  ASSERT_EQ(intermediate.size(), run.intermediate.size()) << "intermediate nodes missing from the graph";
+  const double odomAte = test::nodeAte(run.odometry, run.groundTruth);
+  const double nodesAte = test::nodeAte(nodes, run.groundTruth);
+  const double intermediateAte = test::nodeAte(intermediate, run.groundTruth);
+  RecordProperty("nodes_ate", std::to_string(nodesAte));
+  RecordProperty("intermediate_ate", std::to_string(intermediateAte));
+  EXPECT_LT(nodesAte, 0.5 * odomAte);
+  EXPECT_LT(intermediateAte, 1.25 * nodesAte + 0.01)
+      << "odometry " << odomAte << " m, nodes " << nodesAte << " m, intermediate nodes " << intermediateAte << " m";
+}
+
 // RGBD/ProximityByTime: the new node is registered against the Short-Term Memory nodes it is not
 // linked to; the links found are right (ground truth) and join nodes that were in Short-Term
 // Memory together.

@@ -84,7 +84,14 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
                   << get("Memory/Grid_nodes_replayed/") << ',' << get("Memory/Grid_cell_updates/") << '\n';
     }
   }
-  if (rtabmap_.lastNodeId() > 0) frameRefs_.push_back({frame.stamp, rtabmap_.lastNodeId(), frame.pose});
+  // A skipped frame kept as an intermediate node (Rtabmap/CreateIntermediateNodes) is a node of
+  // poses.tum too, and the node its frame's pose hangs on.
+  const int newest = rtabmap_.newestNodeId();
+  if (!used && newest > 0 && newest != rtabmap_.lastNodeId() && !nodeStamps_.count(newest)) {
+    nodeStamps_[newest] = frame.stamp;
+    nodeOdometry_[newest] = frame.pose;
+  }
+  if (newest > 0) frameRefs_.push_back({frame.stamp, newest, frame.pose});
 }
 
 void SlamStage::finish() {
@@ -125,6 +132,7 @@ nlohmann::json SlamStage::toJson(double datasetSeconds) const {
   nlohmann::json j;
   j["frames"] = frames_;
   j["nodes"] = s.nodesAdded;
+  j["intermediate_nodes"] = s.intermediateNodes;
   j["sessions"] = sessions_;
   j["loop_closures"] = s.loopClosures;
   j["proximity_links"] = s.proximityLinks;

@@ -66,6 +66,7 @@ nlohmann::json toJson(const db::DatabaseSummary& s, const std::optional<db::Cons
   j["sessions"] = sessions;
   j["session_count"] = s.sessions.size();
   j["nodes"] = s.nodes;
+  j["intermediate_nodes"] = s.intermediateNodes;
   nlohmann::json maps = nlohmann::json::object();
   for (const auto& [mapId, nodes] : s.nodesPerMap) maps[std::to_string(mapId)] = nodes;
   j["nodes_per_map"] = maps;
@@ -108,7 +109,9 @@ void printText(std::ostream& out, const db::DatabaseSummary& s,
         << (session.info.endTime <= 0.0 ? " (not closed cleanly)" : "") << ", rtabmap_ros "
         << session.info.rtabmapRosVersion << "\n";
   }
-  out << "Nodes:           " << s.nodes << " (last id " << s.lastNodeId << ")\n";
+  out << "Nodes:           " << s.nodes << " (last id " << s.lastNodeId << ")";
+  if (s.intermediateNodes > 0) out << ", " << s.intermediateNodes << " of them intermediate";
+  out << "\n";
   for (const auto& [mapId, nodes] : s.nodesPerMap) out << "  map " << mapId << ": " << nodes << " nodes\n";
   out << "Links:           " << s.links << "\n";
   for (const auto& [type, count] : s.linksPerType) {

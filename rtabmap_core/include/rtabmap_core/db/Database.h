@@ -178,6 +178,8 @@ class Database {
   // These wait until queued operations are written (not if the writer failed).
 
   std::vector<int> nodeIds() const;
+  // Ids of the intermediate nodes (weight -1, Rtabmap/CreateIntermediateNodes), ascending.
+  std::vector<int> intermediateNodeIds() const;
   // Every node without links, words or sensor data (pose graph, labels, weights).
   std::map<int, Signature> loadAllNodeHeaders() const;
   // Every link, keyed by from id. Each constraint appears once (bothDirections = false) or

@@ -100,6 +100,7 @@ struct DatabaseSummary {
   std::vector<SessionSummary> sessions;
   std::map<int, int64_t> nodesPerMap;
   int64_t nodes = 0;
+  int64_t intermediateNodes = 0;  // of `nodes`: weight -1 (Rtabmap/CreateIntermediateNodes)
   std::map<int, int64_t> linksPerType;  // Link::Type -> count of constraints (each once)
   int64_t links = 0;
   int64_t words = 0;

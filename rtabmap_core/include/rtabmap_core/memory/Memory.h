@@ -88,6 +88,10 @@ struct LocationInput {
   Link::InfMatrix odomInformation = Link::InfMatrix::Identity();
   double stamp = 0.0;
   int mapId = 0;
+  // Rtabmap/CreateIntermediateNodes: a pose of the trajectory between two updates. No words
+  // (keypoints and descriptors are ignored), weight -1 (Signature::isIntermediate), never
+  // rehearsed nor a loop-closure candidate; linked to the previous location like any other.
+  bool intermediate = false;
 };
 
 struct AddResult {
@@ -107,7 +111,8 @@ struct TransferResult {
 };
 
 struct MemorySummary {
-  int stmSize = 0, wmSize = 0, vocabularySize = 0, lastLocationId = 0;
+  int stmSize = 0, wmSize = 0, vocabularySize = 0, lastLocationId = 0;  // sizes without intermediate nodes
+  int intermediatesInRam = 0;
   int lastGlobalLoopClosureId = 0;
   int transferredTotal = 0, retrievedTotal = 0;
 };
@@ -130,7 +135,8 @@ class Memory {
   // The same as (location id, score) pairs sorted by id: what the loop-closure detector uses.
   std::vector<std::pair<int, float>> likelihoodScores(int id) const;
   // Graph neighbourhood in RAM (STM + WM): id -> link distance, within maxDepth. For the Bayes
-  // filter's transition model.
+  // filter's transition model. Intermediate nodes are passed through at no distance and left
+  // out: the neighbourhood is of locations, however many intermediate nodes lie between them.
   std::map<int, int> neighbors(int id, int maxDepth) const;
 
   // An accepted loop closure between the new location and an older one (both in RAM): the link
@@ -157,14 +163,17 @@ class Memory {
 
   // Algorithm 3: brings back from LTM at most Rtabmap/MaxRetrieved locations near `id` (within
   // the neighbourhood range, breadth first, neighbours in time before neighbours in space), their
-  // words re-quantised against the current vocabulary. Returns the retrieved ids.
+  // words re-quantised against the current vocabulary. Intermediate nodes on the way are passed
+  // through at no distance and come back too, uncounted (the graph in RAM stays connected).
+  // Returns the retrieved ids.
   std::vector<int> retrieve(int id);
 
   // Algorithm 4: moves WM locations to LTM, the lowest weight first, then the oldest (time in
   // WM, or id with Mem/TransferSortingByWeightId), until at least `minWordsRemoved` words have left
   // the vocabulary and WM holds at most `maxWmSize` locations (0: no size limit); at least one
   // location when `atLeastOne`. Never `immune` locations, nor the recent part of WM (the
-  // locations newer than the last loop closure, up to Mem/RecentWmRatio of WM).
+  // locations newer than the last loop closure, up to Mem/RecentWmRatio of WM). Intermediate
+  // nodes are not candidates nor counted: they leave with the location that follows them.
   TransferResult transfer(const std::set<int>& immune, int minWordsRemoved, int maxWmSize, bool atLeastOne);
 
   // Writes every location in RAM to the LTM and waits for the writer.
@@ -180,6 +189,12 @@ class Memory {
   const std::set<int>& stm() const { return stm_; }
   // WM ids with the update counter when each entered WM (its age for transfer).
   const std::map<int, long>& wm() const { return wm_; }
+  // WM without its intermediate nodes: the loop-closure candidates' side of WM, what
+  // Rtabmap/MemoryThr bounds.
+  int wmLocations() const;
+  // Intermediate nodes in RAM (STM + WM), and whether a node (in RAM or the LTM) is one.
+  int intermediatesInRam() const { return intermediatesInRam_; }
+  bool isIntermediate(int id) const;
   bool inRam(int id) const { return signatures_.count(id) != 0; }
   // Bytes the locations in RAM (STM and WM) hold, estimated (Signature::memoryUsed).
   size_t locationsMemoryUsed() const;
@@ -194,6 +209,14 @@ class Memory {
 
  private:
   Signature& at(int id);
+  AddResult addIntermediate(const LocationInput& in, int id);
+  // The neighbour link from the previous location to `fresh` (same map); its similarity and motion.
+  int linkToPrevious(Signature& fresh, const LocationInput& in, AddResult& result);
+  // The intermediate nodes in WM right before location `id` (its neighbour-link chain back to
+  // the previous location), newest first: they leave WM with it.
+  std::vector<int> intermediatesBefore(int id) const;
+  void insertInRam(Signature&& s);
+  void eraseFromRam(int id);
   void selectStrongest(LocationInput& in) const;
   bool isBadSignature(int words) const;
   void rehearse(Signature& previous, Signature& fresh, AddResult& result);
@@ -222,6 +245,10 @@ class Memory {
   double wordsSum_ = 0.0;  // for the average words per location (bad signatures)
   long wordsLocations_ = 0;
   int transferredTotal_ = 0, retrievedTotal_ = 0;
+  // Every intermediate node's id, in RAM or the LTM (this session's and the database's),
+  // ascending: retrieval passes through them before loading them. 4 bytes a node.
+  std::vector<int> intermediateIds_;
+  int intermediatesInRam_ = 0;
 };
 
 }  // namespace rtabmap::memory

@@ -2,7 +2,9 @@
 // A node of the map (T-RO 2013 "signature" / "location"): what the robot perceived at one place
 // and how it connects to the rest of the graph. It holds
 //  - identity: id (unique over all sessions), map id (the session's map), stamp, label;
-//  - the weight that rehearsal increases and memory management reads (T-RO 2013, 3.1);
+//  - the weight that rehearsal increases and memory management reads (T-RO 2013, 3.1); -1
+//    marks an intermediate node (Rtabmap/CreateIntermediateNodes: a pose of the trajectory
+//    between two updates, no visual words, never a loop-closure candidate), as in the original;
 //  - poses: odometry pose, optional ground truth, optional velocity;
 //  - its visual words (bag-of-words of the image): word ids with, per keypoint, the 2D
 //    keypoint, its 3D point in the robot base frame (NaN if unknown) and its descriptor;
@@ -43,6 +45,8 @@ class Signature {
   int id() const { return id_; }
   int mapId() const { return mapId_; }
   int weight() const { return weight_; }
+  static constexpr int kIntermediateWeight = -1;
+  bool isIntermediate() const { return weight_ == kIntermediateWeight; }
   double stamp() const { return stamp_; }
   const std::string& label() const { return label_; }
   void setId(int id);

@@ -62,7 +62,8 @@ namespace rtabmap {
 // Counts over the life of this Rtabmap (since init()).
 struct SlamSummary {
   int updates = 0;            // process() calls
-  int nodesAdded = 0;         // nodes created (mapping)
+  int nodesAdded = 0;         // nodes created (mapping), intermediate nodes not included
+  int intermediateNodes = 0;  // Rtabmap/CreateIntermediateNodes: skipped frames kept as nodes
   int skippedRate = 0;        // dropped by Rtabmap/DetectionRate
   int skippedStill = 0;       // robot did not move
   int skippedSpeed = 0;       // robot moved faster than RGBD/LinearSpeedUpdate or AngularSpeedUpdate
@@ -135,6 +136,9 @@ class Rtabmap {
   // Odometry pose of each node of the current referential that is known.
   int mapId() const;
   int lastNodeId() const;
+  // The newest node of the current map: lastNodeId(), or an intermediate node added since
+  // (Rtabmap/CreateIntermediateNodes). 0 before the map's first node.
+  int newestNodeId() const;
   std::vector<int> workingMemory() const;  // WM + STM ids
 
   // Starts a new map (new map id) at the next update, as an odometry reset does.

@@ -11,6 +11,8 @@ namespace rtabmap {
 struct RtabmapOptions {
   // Rate and map update
   float detectionRate = 1.0f;     // Rtabmap/DetectionRate (Hz, 0 = every input)
+  bool createIntermediateNodes = false;    // Rtabmap/CreateIntermediateNodes
+  bool intermediateNodeDataKept = false;   // Mem/IntermediateNodeDataKept
   bool metric = true;             // RGBD/Enabled
   bool incremental = true;        // Mem/IncrementalMemory (false = localization)
   float linearUpdate = 0.1f;      // RGBD/LinearUpdate (m)
