@@ -234,7 +234,7 @@ Link Rtabmap::Impl::chainOdometry(const std::vector<int>& chain, int newId) cons
       covariance += forward.infMatrix().inverse();
     }
   }
-  return Link(chain.front(), newId, Link::kNeighbor, t, covariance.inverse());
+  return Link(chain.front(), newId, Link::kNeighbor, t, informationOf(covariance, options.covOffDiagIgnored));
 }
 
 // The refined motion from chain[0] to newId, `refined`, replaces the odometry's, `odometry`,
