@@ -171,8 +171,12 @@ std::vector<int> Memory::retrieve(int id) {
       if (!signatures_.count(n)) toLoad.push_back(n);
     }
   }
+  // The intermediate nodes walked through come in the same read, not counted: they are no locations.
+  toLoad.insert(toLoad.end(), passed.begin(), passed.end());
   std::vector<int> retrieved = retrieveIds(toLoad);
-  if (!passed.empty()) retrieveIds(passed);  // not counted: they are no locations
+  retrieved.erase(std::remove_if(retrieved.begin(), retrieved.end(),
+                                 [this](int r) { return signatures_.at(r).isIntermediate(); }),
+                  retrieved.end());
   return retrieved;
 }
 

@@ -172,6 +172,15 @@ struct Rtabmap::Impl {
   memory::LocationInput makeIntermediateLocation(const SensorData& data, const Transform& odom,
                                                  const Covariance6& covariance);
   void extractWords(const SensorData& data, memory::LocationInput& in);
+  // Mem/LaserScan* filters on the frame's scan (kept unfiltered, with a warning, if they leave nothing).
+  void applyScanFilter(SensorData& data, int frameId) const;
+  // What Working Memory and the database keep of a node's data: images decimated
+  // (Mem/ImagePostDecimation) and compressed, depth in millimetres (Mem/SaveDepth16Format), raw
+  // images dropped unless Mem/ImageKept; the scan stays raw (registrations use it again and again).
+  void compressForMemory(SensorData& data) const;
+  // Id (Mem/GenerateIds false), odometry pose, stamp, map and neighbour-link information.
+  void setFrameOf(memory::LocationInput& in, const SensorData& raw, const Transform& odom,
+                  const Covariance6& covariance) const;
   void refineNeighborLink(int newId);
   // Rtabmap/CreateIntermediateNodes: the node before the intermediate nodes that end with
   // `previousId`, then them, oldest first ({previousId} if it is no intermediate node; empty if

@@ -61,13 +61,7 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
   if (scanFilter.active() && !data.laserScanRaw().empty()) {
     // Before the local grid: the grid, the database and every registration get the filtered scan.
     StageTimer t(stats, "Timing/Mem_scan_filtering/ms");
-    std::string why;
-    const LaserScan filtered = filterScan(data.laserScanRaw(), scanFilter, &why);
-    if (filtered.empty()) {
-      RTABMAP_WARN("frame " << raw.id() << ": the scan is kept unfiltered, the Mem/LaserScan* filters leave nothing of it: " << why);
-    } else {
-      data.setLaserScan(filtered);
-    }
+    applyScanFilter(data, raw.id());
   }
   if (gridOptions && data.localGrid().isEmpty()) {
     StageTimer t(stats, Statistics::kTimingMemOccupancy_grid);
@@ -82,25 +76,44 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
     // Working Memory holds images compressed (what the database stores); the scan stays raw
     // too, as proximity detection matches it again and again.
     StageTimer t(stats, Statistics::kTimingMemCompressing_data);
-    data = decimateImages(data, options.imagePostDecimation);  // after the local grid: it uses all pixels
-    if (options.saveDepth16 && !data.isStereo() && data.depthOrRightRaw().type() == CV_32FC1) {
-      data.setRGBDImage(data.imageRaw(), depthToMillimetres(data.depthOrRightRaw()), data.cameraModels());
-    }
-    data.compress(options.imageFormat);
-    if (!options.imageKept) {
-      const LaserScan scan = data.laserScanRaw();
-      data.clearRaw();
-      data.setLaserScan(scan);
-    }
+    compressForMemory(data);  // after the local grid: it uses all pixels
     data.setFeatures({}, {}, cv::Mat());  // the words hold what is kept of them
   }
   in.data = data;
+  setFrameOf(in, raw, odom, covariance);
+  return in;
+}
+
+void Rtabmap::Impl::applyScanFilter(SensorData& data, int frameId) const {
+  std::string why;
+  const LaserScan filtered = filterScan(data.laserScanRaw(), scanFilter, &why);
+  if (filtered.empty()) {
+    RTABMAP_WARN("frame " << frameId << ": the scan is kept unfiltered, the Mem/LaserScan* filters leave nothing of it: " << why);
+  } else {
+    data.setLaserScan(filtered);
+  }
+}
+
+void Rtabmap::Impl::compressForMemory(SensorData& data) const {
+  data = decimateImages(data, options.imagePostDecimation);
+  if (options.saveDepth16 && !data.isStereo() && data.depthOrRightRaw().type() == CV_32FC1) {
+    data.setRGBDImage(data.imageRaw(), depthToMillimetres(data.depthOrRightRaw()), data.cameraModels());
+  }
+  data.compress(options.imageFormat);
+  if (!options.imageKept) {
+    const LaserScan scan = data.laserScanRaw();
+    data.clearRaw();
+    data.setLaserScan(scan);
+  }
+}
+
+void Rtabmap::Impl::setFrameOf(memory::LocationInput& in, const SensorData& raw, const Transform& odom,
+                               const Covariance6& covariance) const {
   if (!options.generateIds && options.incremental) in.id = raw.id();  // checked by checkInput
   in.pose = odom;
   in.stamp = raw.stamp();
   in.mapId = mapId;
   in.odomInformation = informationOf(covariance, options.covOffDiagIgnored);
-  return in;
 }
 
 // The weight of a refined neighbour link: the registration's own covariance, the model that
@@ -125,23 +138,10 @@ memory::LocationInput Rtabmap::Impl::makeIntermediateLocation(const SensorData& 
   in.intermediate = true;
   if (options.intermediateNodeDataKept) {
     SensorData data = raw;
-    if (scanFilter.active() && !data.laserScanRaw().empty()) {
-      std::string why;
-      const LaserScan filtered = filterScan(data.laserScanRaw(), scanFilter, &why);
-      if (!filtered.empty()) data.setLaserScan(filtered);
-    }
-    data = decimateImages(data, options.imagePostDecimation);
-    if (options.saveDepth16 && !data.isStereo() && data.depthOrRightRaw().type() == CV_32FC1) {
-      data.setRGBDImage(data.imageRaw(), depthToMillimetres(data.depthOrRightRaw()), data.cameraModels());
-    }
+    if (scanFilter.active() && !data.laserScanRaw().empty()) applyScanFilter(data, raw.id());
     data.setFeatures({}, {}, cv::Mat());
     data.setLandmarks({});  // carried to the next update's node
-    data.compress(options.imageFormat);
-    if (!options.imageKept) {
-      const LaserScan scan = data.laserScanRaw();
-      data.clearRaw();
-      data.setLaserScan(scan);
-    }
+    compressForMemory(data);
     in.data = data;
   } else {
     SensorData pose;
@@ -150,11 +150,7 @@ memory::LocationInput Rtabmap::Impl::makeIntermediateLocation(const SensorData& 
     pose.setIMU(raw.imu());
     in.data = pose;
   }
-  if (!options.generateIds && options.incremental) in.id = raw.id();
-  in.pose = odom;
-  in.stamp = raw.stamp();
-  in.mapId = mapId;
-  in.odomInformation = informationOf(covariance, options.covOffDiagIgnored);
+  setFrameOf(in, raw, odom, covariance);
   return in;
 }
 
