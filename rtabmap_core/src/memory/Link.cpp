@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace rtabmap {
 
@@ -57,6 +59,43 @@ Link Link::inverse() const {
     inv.information_ = 0.5 * (moved + moved.transpose());
   }
   return inv;
+}
+
+// With right perturbations, A Exp(a) B Exp(b) = A B Exp(Ad(B^-1) a) Exp(b): A's noise reaches
+// the composed frame through Ad(B^-1), so Sigma = Ad(B^-1) Sigma_A Ad(B^-1)^T + Sigma_B (first
+// order, independent noises). Summing the covariances without the adjoint (the original's merge)
+// forgets that A's rotation noise swings the end of B and that B turns A's axes.
+Link Link::compose(const Link& next, Type type) const {
+  if (to_ != next.from_) {
+    throw std::invalid_argument("Link::compose: link " + std::to_string(from_) + "->" + std::to_string(to_) +
+                                " is not followed by " + std::to_string(next.from_) + "->" + std::to_string(next.to_));
+  }
+  if (transform_.isNull() || next.transform_.isNull()) {
+    throw std::invalid_argument("Link::compose: links " + std::to_string(from_) + "->" + std::to_string(to_) + "->" +
+                                std::to_string(next.to_) + " need transforms");
+  }
+  const Eigen::Matrix<double, 6, 6> ad = adjoint(next.transform_.inverse());
+  const Eigen::Matrix<double, 6, 6> covariance =
+      ad * information_.inverse() * ad.transpose() + next.information_.inverse();
+  InfMatrix information = covariance.inverse();
+  information = 0.5 * (information + information.transpose());
+  return Link(from_, next.to_, type, transform_ * next.transform_, information);
+}
+
+namespace {
+constexpr char kScanIdsPrefix[] = "SCANS:";
+}  // namespace
+
+cv::Mat Link::scanIdsUserData(const std::vector<int>& ids) {
+  std::string text = kScanIdsPrefix;
+  for (size_t i = 0; i < ids.size(); ++i) text += (i ? ";" : "") + std::to_string(ids[i]);
+  return cv::Mat(1, static_cast<int>(text.size()), CV_8UC1, text.data()).clone();
+}
+
+bool Link::hasScanIdsUserData() const {
+  const size_t n = sizeof(kScanIdsPrefix) - 1;
+  return userData_.type() == CV_8UC1 && userData_.rows == 1 && static_cast<size_t>(userData_.cols) >= n &&
+         std::equal(kScanIdsPrefix, kScanIdsPrefix + n, userData_.ptr<char>(0));
 }
 
 bool Link::isValid(std::string* why) const {

@@ -63,6 +63,8 @@ AddResult LoopClosureDetector::addLocation(const LocationInput& input, LoopClosu
   const auto t = Clock::now();
   memory_.joinLtmWriter();  // the previous update's writes are done before this one starts
   const AddResult added = memory_.addLocation(input);
+  // Mem/ReduceGraph: the transition rows through a location merged away are stale.
+  if (!added.relinked.empty()) linksChanged(added.relinked);
   u.id = added.id;
   u.merged = added.merged;
   u.words = added.words;

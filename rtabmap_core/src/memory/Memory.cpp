@@ -46,6 +46,7 @@ MemoryOptions MemoryOptions::fromParameters(const ParametersMap& p) {
   o.stillAngular = Parameters::getFloat(p, Parameters::kRGBDAngularUpdate());
   o.rehearsalWeightIgnoredWhileMoving = Parameters::getBool(p, Parameters::kMemRehearsalWeightIgnoredWhileMoving());
   o.useOdomGravity = Parameters::getBool(p, Parameters::kMemUseOdomGravity());
+  o.reduceGraph = Parameters::getBool(p, Parameters::kMemReduceGraph());
   o.vocabulary = vocabulary::VocabularyOptions::fromParameters(p);
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
@@ -133,6 +134,7 @@ MemorySummary Memory::summary() const {
   s.lastGlobalLoopClosureId = lastGlobalLoopClosureId_;
   s.transferredTotal = transferredTotal_;
   s.retrievedTotal = retrievedTotal_;
+  s.reducedTotal = reducedTotal_;
   return s;
 }
 
@@ -262,7 +264,7 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
     }
   }
   previousId_ = result.id;
-  moveStmOverflowToWm();
+  moveStmOverflowToWm(result);
   return result;
 }
 
@@ -301,7 +303,7 @@ AddResult Memory::addIntermediate(const LocationInput& in, int id) {
   stm_.insert(id);
   intermediateIds_.push_back(id);  // ids only grow: the vector stays sorted
   previousId_ = id;
-  moveStmOverflowToWm();
+  moveStmOverflowToWm(result);
   return result;
 }
 
@@ -423,12 +425,17 @@ bool Memory::setLabel(int id, const std::string& label) {
 
 // Intermediate nodes do not count: STM holds the Mem/STMSize newest locations and the
 // intermediate nodes among them, which go to WM right before the location that follows them.
-void Memory::moveStmOverflowToWm() {
+void Memory::moveStmOverflowToWm(AddResult& result) {
   int locations = 0;
   for (int id : stm_) locations += signatures_.at(id).isIntermediate() ? 0 : 1;
   while (locations > options_.stmSize) {
     const int oldest = *stm_.begin();
     if (!signatures_.at(oldest).isIntermediate()) --locations;
+    if (const int into = options_.reduceGraph ? reductionTarget(signatures_.at(oldest)) : 0) {
+      reduce(oldest, into, result.relinked);
+      result.reduced.emplace_back(oldest, into);
+      continue;
+    }
     stm_.erase(stm_.begin());
     wm_[oldest] = updateCounter_;
     if (ltm_) saveToLtm(at(oldest));

@@ -42,13 +42,6 @@ std::set<int> candidatesOf(const memory::Memory& memory, int currentId, const st
 }
 
 // The nodes of `path` nearest to `center` along it: center and up to n on each side.
-// RGBD/ScanMatchingIdsSavedInLinks: "SCANS:id;id;..." as bytes.
-cv::Mat scanIdsUserData(const std::vector<int>& ids) {
-  std::string text = "SCANS:";
-  for (size_t i = 0; i < ids.size(); ++i) text += (i ? ";" : "") + std::to_string(ids[i]);
-  return cv::Mat(1, static_cast<int>(text.size()), CV_8UC1, text.data()).clone();
-}
-
 std::vector<int> pathWindow(const std::vector<int>& path, int center, int n) {
   const auto it = std::find(path.begin(), path.end(), center);
   const long i = it - path.begin();
@@ -247,7 +240,7 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
     }
     const Link fromNearest(nearest, currentId, Link::kLocalSpaceClosure, t,
                            informationOf(info.covariance * o.proximityMergedScanCovFactor, covOffDiagIgnored),
-                           o.scanMatchingIdsSavedInLinks ? scanIdsUserData(partIds) : cv::Mat());
+                           o.scanMatchingIdsSavedInLinks ? Link::scanIdsUserData(partIds) : cv::Mat());
     result.links.push_back(fromNearest.inverse());
     ++result.addedByScans;
   }

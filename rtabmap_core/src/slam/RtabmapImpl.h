@@ -147,6 +147,10 @@ struct Rtabmap::Impl {
   bool addIntermediateNode(const SensorData& data, const Transform& odom);
   // Rtabmap/StartNewMapOnLoopClosure: the first node of the current map taken back.
   void discardFirstNode(int id);
+  // Mem/ReduceGraph: nodes merged into older ones as they left STM leave the graph, the global
+  // grid and the labels; a merge link one held is now held by the composed links of the node
+  // it was merged into.
+  void forgetReducedNodes(const memory::AddResult& added);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
   // RtabmapGraph.cpp: Rtabmap/ComputeRMSE (GroundTruthError.h), when the node has ground truth.

@@ -31,6 +31,11 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
     odometryCache = OdometryCache(cache);
   }
   if (options.metric) registration = std::make_unique<LinkRegistration>(p);
+  if (options.createIntermediateNodes && detectorOptions.memory.reduceGraph) {
+    RTABMAP_WARN(Parameters::kMemReduceGraph() << " does not merge nodes next to intermediate nodes ("
+                                               << Parameters::kRtabmapCreateIntermediateNodes()
+                                               << " keeps the whole trajectory): with both, the graph is not reduced");
+  }
   if (options.createOccupancyGrid) {
     gridOptions = LocalGridOptions::fromParameters(p);
     grid = std::make_unique<OccupancyGrid>(GlobalGridOptions::fromParameters(p));

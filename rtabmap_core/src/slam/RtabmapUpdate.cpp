@@ -152,6 +152,7 @@ bool Rtabmap::Impl::addIntermediateNode(const SensorData& data, const Transform&
   }
   memory::LoopClosureUpdate u;
   const memory::AddResult added = detector->addLocation(makeIntermediateLocation(data, odom, motionCovariance), u);
+  forgetReducedNodes(added);
   graph.setPose(added.id, mapId, mapCorrection * odom);
   motionCovariance.setZero();  // the next node's neighbour link starts here
   lastChainOdom = odom;
@@ -174,6 +175,32 @@ void Rtabmap::Impl::discardFirstNode(int id) {
   ++summary.skippedMapStart;
 }
 
+void Rtabmap::Impl::forgetReducedNodes(const memory::AddResult& added) {
+  const memory::Memory& memory = detector->memory();
+  if (memory.options().reduceGraph) stats.addStatistic("Memory/Reduced_nodes/", static_cast<float>(added.reduced.size()));
+  for (const auto& [id, into] : added.reduced) {
+    const Transform reducedPose = graph.pose(id), intoPose = graph.pose(into);
+    if (!reducedPose.isNull() && !intoPose.isNull()) stats.reducedTransforms[id] = intoPose.inverse() * reducedPose;
+    graph.erase(id);
+    if (grid) grid->removeLocalGrid(id);
+    labelCache.erase(id);
+    stats.reducedIds[id] = into;
+    ++summary.reducedNodes;
+    const auto held = std::remove_if(mergeLinks.begin(), mergeLinks.end(),
+                                     [id = id](const Link& l) { return l.from() == id || l.to() == id; });
+    if (held == mergeLinks.end()) continue;
+    mergeLinks.erase(held, mergeLinks.end());
+    std::vector<Link> composed;
+    for (const auto& [to, l] : memory.signature(into)->getLinks()) {
+      const bool known = std::any_of(mergeLinks.begin(), mergeLinks.end(), [&l = l](const Link& m) {
+        return m.from() == l.from() && m.to() == l.to() && m.type() == l.type();
+      });
+      if (l.type() == Link::kNeighborMerged && graph.contains(to) && !known) composed.push_back(l);
+    }
+    recordMergeLinks(composed);
+  }
+}
+
 bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom) {
   const auto start = std::chrono::steady_clock::now();
   memory::Memory& memory = detector->memory();
@@ -187,6 +214,7 @@ bool Rtabmap::Impl::mappingUpdate(const SensorData& data, const Transform& odom)
     StageTimer t(stats, Statistics::kTimingMemory_update);
     added = detector->addLocation(makeLocation(data, odom, motionCovariance), u);
   }
+  forgetReducedNodes(added);
   stats.addStatistic(Statistics::kMemoryRehearsal_merged, added.merged ? static_cast<float>(added.mergedWith) : 0.f);
   stats.addStatistic(Statistics::kMemorySimilarity, added.rehearsalSimilarity);
   stats.addStatistic(Statistics::kMemorySmall_movement, still ? 1.f : 0.f);

@@ -135,19 +135,19 @@ TEST(ParameterRegistry, OnlyImplementedBackEndsAreAccepted) {
 
 TEST(ParameterRegistry, AParameterOfTheOriginalNotImplementedHereAcceptsOnlyItsDefault) {
   std::string why;
-  EXPECT_TRUE(Parameters::isValid("Mem/ReduceGraph", "false"));
-  EXPECT_TRUE(Parameters::isValid("Mem/ReduceGraph", "0"));
-  EXPECT_FALSE(Parameters::isValid("Mem/ReduceGraph", "true", &why));
-  EXPECT_NE(why.find("Mem/ReduceGraph"), std::string::npos) << why;
-  EXPECT_NE(why.find("not implemented here (the graph keeps every node)"), std::string::npos) << why;
+  EXPECT_TRUE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "false"));
+  EXPECT_TRUE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "0"));
+  EXPECT_FALSE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "true", &why));
+  EXPECT_NE(why.find("RGBD/LocalBundleOnLoopClosure"), std::string::npos) << why;
+  EXPECT_NE(why.find("not implemented here (no bundle adjustment of loop-closure transforms)"), std::string::npos) << why;
   EXPECT_NE(why.find("default \"false\""), std::string::npos) << why;
   EXPECT_TRUE(Parameters::isValid("Kp/Parallelized", "true"));
   EXPECT_FALSE(Parameters::isValid("Kp/Parallelized", "false"));
   EXPECT_TRUE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.750"));
   EXPECT_FALSE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.5"));
-  EXPECT_FALSE(Parameters::isValid("Mem/ReduceGraph", "maybe", &why));
+  EXPECT_FALSE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "maybe", &why));
   EXPECT_NE(why.find("not a bool"), std::string::npos) << why;
-  EXPECT_EQ(Parameters::info("Mem/ReduceGraph").expectation(), "its default only (not implemented here)");
+  EXPECT_EQ(Parameters::info("RGBD/LocalBundleOnLoopClosure").expectation(), "its default only (not implemented here)");
 }
 
 // Every declared parameter is read by the code (core, tools, ROS layer), declared not

@@ -55,6 +55,7 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   wallSeconds_ += ms / 1000.0;
   if (options_.localization) localizationFrames_.emplace_back(frame.stamp, rtabmap_.mapCorrection() * frame.pose);
+  reanchorReducedFrames(rtabmap_.statistics());  // a frame not used may still push a node out of STM
   if (used) {
     updateMs_.push_back(ms);
     for (const auto& [key, value] : rtabmap_.statistics().data()) {
@@ -94,6 +95,23 @@ void SlamStage::process(const FrameResult& frame, const SensorData& data) {
   if (newest > 0) frameRefs_.push_back({frame.stamp, newest, frame.pose});
 }
 
+void SlamStage::reanchorReducedFrames(const Statistics& stats) {
+  for (const auto& [id, offset] : stats.reducedTransforms) {
+    auto into = stats.reducedIds.find(id);
+    if (into != stats.reducedIds.end()) reduced_[id] = {into->second, offset};
+  }
+}
+
+Transform SlamStage::finalPoseOf(int node) const {
+  Transform offset = Transform::Identity();
+  for (auto r = reduced_.find(node); r != reduced_.end(); r = reduced_.find(node)) {
+    offset = r->second.second * offset;
+    node = r->second.first;
+  }
+  auto pose = finalPoses_.find(node);
+  return pose == finalPoses_.end() ? Transform() : pose->second * offset;
+}
+
 void SlamStage::finish() {
   finalPoses_ = rtabmap_.optimizedPoses();
   const SlamSummary s = rtabmap_.summary();
@@ -110,10 +128,10 @@ void SlamStage::finish() {
     writeTrajectory(dir + "/poses.tum", poses, TrajectoryFormat::kTum);
     Trajectory frames;
     for (const FrameRef& f : frameRefs_) {
-      auto node = finalPoses_.find(f.node);
+      const Transform node = finalPoseOf(f.node);
       auto odom = nodeOdometry_.find(f.node);
-      if (node == finalPoses_.end() || odom == nodeOdometry_.end()) continue;
-      frames.add(f.stamp, node->second * (odom->second.inverse() * f.odometry));
+      if (node.isNull() || odom == nodeOdometry_.end()) continue;
+      frames.add(f.stamp, node * (odom->second.inverse() * f.odometry));
     }
     writeTrajectory(dir + "/frames.tum", frames, TrajectoryFormat::kTum);
   } else {
@@ -133,6 +151,7 @@ nlohmann::json SlamStage::toJson(double datasetSeconds) const {
   j["frames"] = frames_;
   j["nodes"] = s.nodesAdded;
   j["intermediate_nodes"] = s.intermediateNodes;
+  j["reduced_nodes"] = s.reducedNodes;
   j["sessions"] = sessions_;
   j["loop_closures"] = s.loopClosures;
   j["proximity_links"] = s.proximityLinks;

@@ -50,6 +50,13 @@ class SlamStage {
     Transform odometry;
   };
   std::vector<FrameRef> frameRefs_;
+  // Mem/ReduceGraph: a frame hanging on a node merged away hangs on the node it merged into,
+  // at the offset the graph had between them (node -> (into, pose in into's frame)).
+  std::map<int, std::pair<int, Transform>> reduced_;
+  void reanchorReducedFrames(const Statistics& stats);
+  // The optimised pose of `node`, or of the node it was merged into composed with the offset
+  // (null if none).
+  Transform finalPoseOf(int node) const;
   std::map<double, Transform> groundTruth_;  // frame stamp -> ground truth (base)
   std::vector<std::pair<double, Transform>> localizationFrames_;  // localization mode: stamp -> pose in the map
   std::vector<double> updateMs_;

@@ -9,6 +9,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include <string>
+#include <vector>
 
 #include "rtabmap_core/geometry/Transform.h"
 
@@ -58,6 +59,16 @@ class Link {
   // The same constraint seen from `to`: swapped ids, inverted transform, and the information
   // matrix moved to the other frame (see Link.cpp for the derivation).
   Link inverse() const;
+  // This link followed by `next` (this->to() == next.from()): from() -> next.to(), transforms
+  // composed, their noise added in the frame of the result (see Link.cpp), of type `type`.
+  // Throws std::invalid_argument if the links do not meet or a transform is null.
+  Link compose(const Link& next, Type type) const;
+
+  // RGBD/ScanMatchingIdsSavedInLinks: a proximity link made by one-to-many scan matching keeps,
+  // as its user data, the ids of the nodes whose scans were merged: "SCANS:id;id;..." (the
+  // original's text). A record, not data a user attached.
+  static cv::Mat scanIdsUserData(const std::vector<int>& ids);
+  bool hasScanIdsUserData() const;
 
   // True if type is defined, the transform is non-null and finite, and the information matrix
   // is finite, symmetric and positive definite. Otherwise explains why in *why (if given).

@@ -68,6 +68,10 @@ struct MemoryOptions {
   // Mem/UseOdomGravity: a new location's gravity link (GravityLink.h) takes its orientation
   // from the odometry pose rather than from the frame's IMU.
   bool useOdomGravity = false;
+  // Mem/ReduceGraph: a location that leaves STM with a loop closure to an older location is
+  // merged into it (MemoryReduceGraph.cpp), so revisiting a place does not grow the graph.
+  // Mapping only (Mem/IncrementalMemory).
+  bool reduceGraph = false;
   vocabulary::VocabularyOptions vocabulary;
 
   static MemoryOptions fromParameters(const ParametersMap& parameters);
@@ -103,6 +107,10 @@ struct AddResult {
   bool badSignature = false;
   int words = 0;
   int newWords = 0;
+  // Mem/ReduceGraph: the locations that left STM this update merged into an older one, as
+  // (location, the location it was merged into). They are gone from memory and never saved.
+  std::vector<std::pair<int, int>> reduced;
+  std::set<int> relinked;  // the locations whose links the reductions changed
 };
 
 struct TransferResult {
@@ -114,6 +122,7 @@ struct MemorySummary {
   int stmSize = 0, wmSize = 0, vocabularySize = 0, lastLocationId = 0;  // sizes without intermediate nodes
   int intermediatesInRam = 0;
   int lastGlobalLoopClosureId = 0;
+  int reducedTotal = 0;  // Mem/ReduceGraph
   int transferredTotal = 0, retrievedTotal = 0;
 };
 
@@ -220,7 +229,11 @@ class Memory {
   void selectStrongest(LocationInput& in) const;
   bool isBadSignature(int words) const;
   void rehearse(Signature& previous, Signature& fresh, AddResult& result);
-  void moveStmOverflowToWm();
+  void moveStmOverflowToWm(AddResult& result);
+  // Mem/ReduceGraph (MemoryReduceGraph.cpp): the older location a location leaving STM is merged
+  // into (0: it stays), and the merge.
+  int reductionTarget(const Signature& s) const;
+  void reduce(int id, int into, std::set<int>& relinked);
   void saveToLtm(Signature& s);
   // Drops the location's references; words left without any leave the vocabulary. Returns how many.
   int removeFromVocabulary(int id, const std::multimap<int, int>& words);
@@ -244,7 +257,7 @@ class Memory {
   int lastGlobalLoopClosureId_ = 0;
   double wordsSum_ = 0.0;  // for the average words per location (bad signatures)
   long wordsLocations_ = 0;
-  int transferredTotal_ = 0, retrievedTotal_ = 0;
+  int transferredTotal_ = 0, retrievedTotal_ = 0, reducedTotal_ = 0;
   // Every intermediate node's id, in RAM or the LTM (this session's and the database's),
   // ascending: retrieval passes through them before loading them. 4 bytes a node.
   std::vector<int> intermediateIds_;

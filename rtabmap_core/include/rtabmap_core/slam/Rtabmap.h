@@ -64,6 +64,7 @@ struct SlamSummary {
   int updates = 0;            // process() calls
   int nodesAdded = 0;         // nodes created (mapping), intermediate nodes not included
   int intermediateNodes = 0;  // Rtabmap/CreateIntermediateNodes: skipped frames kept as nodes
+  int reducedNodes = 0;       // Mem/ReduceGraph: nodes merged into an older one they closed a loop with
   int skippedRate = 0;        // dropped by Rtabmap/DetectionRate
   int skippedStill = 0;       // robot did not move
   int skippedSpeed = 0;       // robot moved faster than RGBD/LinearSpeedUpdate or AngularSpeedUpdate

@@ -191,6 +191,8 @@ class Statistics {
   std::map<int, int> weights;          // WM node id -> weight
   std::map<int, std::string> labels;   // node id -> label
   std::vector<int> wmState;            // ids of the Working Memory
+  std::map<int, int> reducedIds;       // Mem/ReduceGraph: node -> the older node it was merged into
+  std::map<int, Transform> reducedTransforms;  // ... -> its pose in that node's frame (from the graph)
   std::map<int, Transform> poses;      // optimised poses of the local map
   std::multimap<int, Link> constraints;
 
