@@ -190,12 +190,21 @@ void Rtabmap::Impl::forgetReducedNodes(const memory::AddResult& added) {
                                      [id = id](const Link& l) { return l.from() == id || l.to() == id; });
     if (held == mergeLinks.end()) continue;
     mergeLinks.erase(held, mergeLinks.end());
+    // The composed links that now join the maps (recordMergeLinks keeps those) are among the
+    // links of the nodes the reduced one was linked to.
     std::vector<Link> composed;
-    for (const auto& [to, l] : memory.signature(into)->getLinks()) {
-      const bool known = std::any_of(mergeLinks.begin(), mergeLinks.end(), [&l = l](const Link& m) {
-        return m.from() == l.from() && m.to() == l.to() && m.type() == l.type();
-      });
-      if (l.type() == Link::kNeighborMerged && graph.contains(to) && !known) composed.push_back(l);
+    const auto known = [&](const Link& l) {
+      const auto same = [&l](const Link& m) {
+        return (m.from() == l.from() && m.to() == l.to()) || (m.from() == l.to() && m.to() == l.from());
+      };
+      return std::any_of(mergeLinks.begin(), mergeLinks.end(), same) || std::any_of(composed.begin(), composed.end(), same);
+    };
+    for (int end : added.relinked) {
+      const Signature* s = memory.signature(end);
+      if (!s) continue;
+      for (const auto& [to, l] : s->getLinks()) {
+        if (l.type() == Link::kNeighborMerged && graph.contains(to) && !known(l)) composed.push_back(l);
+      }
     }
     recordMergeLinks(composed);
   }
