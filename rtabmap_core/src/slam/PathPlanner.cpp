@@ -84,6 +84,25 @@ void PathPlanner::cancel() {
   stuckCount_ = 0;
 }
 
+void PathPlanner::renameNode(int from, int to) {
+  if (from == to) return;
+  std::vector<std::pair<int, Transform>> renamed;
+  std::size_t progress = 0;
+  for (std::size_t i = 0; i < path_.size(); ++i) {
+    const int id = path_[i].first == from ? to : path_[i].first;
+    if (!renamed.empty() && renamed.back().first == id) {
+      if (i == progress_) progress = renamed.size() - 1;  // the kept one is where the robot is
+      if (i + 1 == path_.size()) renamed.back().second = path_[i].second;  // the goal's planned pose
+      continue;
+    }
+    if (i == progress_) progress = renamed.size();
+    renamed.emplace_back(id, path_[i].second);
+  }
+  path_.swap(renamed);
+  progress_ = progress;
+  if (unreachable_.erase(from)) unreachable_.insert(to);
+}
+
 PlanResult PathPlanner::plan(const PlanGoal& goal, const graph::Poses& allPoses,
                              const graph::Links& allLinks, int currentNodeId,
                              const Transform& robotPose) {

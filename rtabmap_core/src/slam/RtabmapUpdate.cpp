@@ -184,6 +184,7 @@ void Rtabmap::Impl::forgetReducedNodes(const memory::AddResult& added) {
     graph.erase(id);
     if (grid) grid->removeLocalGrid(id);
     labelCache.erase(id);
+    if (planner.isActive()) planner.renameNode(id, into);
     stats.reducedIds[id] = into;
     ++summary.reducedNodes;
     const auto held = std::remove_if(mergeLinks.begin(), mergeLinks.end(),

@@ -411,6 +411,27 @@ TEST(PathPlanner, VirtualLinksBridgeGapsOfThePathInTheLocalMap) {
   EXPECT_EQ(11, links[1].to());
 }
 
+TEST(PathPlanner, ANodeMergedIntoAnotherIsRenamedOnThePath) {
+  // Mem/ReduceGraph merged path nodes into the nodes they closed loops with: the path goes
+  // through those, once where two consecutive nodes became one, and the goal follows.
+  const TestMap m = corridorLoop();
+  PathPlanner planner(options(20.0f, 2));
+  ASSERT_TRUE(planner.plan(PlanGoal::node(11), m.poses, m.links, 1, m.poses.at(1)).found);
+  planner.update(m.poses, m.poses.at(3));  // progress at node 3
+  const Transform goalPose = planner.goalPose();
+  planner.renameNode(5, 4);  // 5 was 4 seen again
+  planner.renameNode(7, 23);
+  planner.renameNode(11, 10);  // the goal
+  EXPECT_EQ((std::vector<int>{1, 2, 3, 4, 6, 23, 8, 9, 10}), idsOf(planner.path()));
+  EXPECT_EQ(10, planner.goalId());
+  EXPECT_LT(planner.goalPose().getDistance(goalPose), 1e-9) << "the goal stays where it was planned";
+  const PlanStatus s = planner.update(m.poses, m.poses.at(3));
+  EXPECT_FALSE(s.failed) << s.why;
+  planner.renameNode(3, 2);  // where the robot is: progress stays on it
+  EXPECT_EQ((std::vector<int>{1, 2, 4, 6, 23, 8, 9, 10}), idsOf(planner.path()));
+  EXPECT_FALSE(planner.update(m.poses, m.poses.at(3)).failed);
+}
+
 TEST(PathPlanner, CancelEndsThePlan) {
   const TestMap m = corridorLoop();
   PathPlanner planner(options());

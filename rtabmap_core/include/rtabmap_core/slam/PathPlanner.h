@@ -117,6 +117,9 @@ class PathPlanner {
   static constexpr double kVirtualInformation = 1e-2;  // sigma 10 m, 10 rad
 
   void cancel();
+  // Mem/ReduceGraph: node `from` was merged into `to`, the same place: the path goes through
+  // `to` instead (once, where they were consecutive), keeping the pose it was planned with.
+  void renameNode(int from, int to);
   bool isActive() const { return !path_.empty(); }
   const std::vector<std::pair<int, Transform>>& path() const { return path_; }
   int goalId() const { return path_.empty() ? 0 : path_.back().first; }
