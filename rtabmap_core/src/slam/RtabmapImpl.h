@@ -148,8 +148,8 @@ struct Rtabmap::Impl {
   // Rtabmap/StartNewMapOnLoopClosure: the first node of the current map taken back.
   void discardFirstNode(int id);
   // Mem/ReduceGraph: nodes merged into older ones as they left STM leave the graph, the global
-  // grid and the labels; a merge link one held is now held by the composed links of the node
-  // it was merged into.
+  // grid and the labels; a plan through one goes through the node it merged into, and a merge
+  // link one held is handed to the composed links that now join the maps.
   void forgetReducedNodes(const memory::AddResult& added);
   bool localizationUpdate(const SensorData& data, const Transform& odom, const Covariance6& covariance);
   void finishStatistics(const memory::LoopClosureUpdate& u, int nodeId, double totalMs);
