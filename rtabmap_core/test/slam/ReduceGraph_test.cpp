@@ -1,6 +1,6 @@
 // Mem/ReduceGraph in the SLAM pipeline: a node that closed a loop with an older one merges into
-// it as it leaves STM, so driving a route again does not grow the graph, and the map stays the
-// one the full graph gives.
+// it as it leaves STM, so driving a route again does not grow the graph, and the nodes kept stay
+// where they are (as close to the truth as with the full graph).
 #include <gtest/gtest.h>
 
 #include <cmath>
