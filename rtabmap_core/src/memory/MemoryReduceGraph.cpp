@@ -56,11 +56,8 @@ void Memory::reduce(int id, int into, std::set<int>& relinked) {
   Signature& s = at(id);
   const std::multimap<int, Link> links = s.getLinks();
   const bool writeLtm = ltm_ != nullptr && options_.incremental;
-  // The other end of each link may be in RAM or, transferred meanwhile, only in the LTM.
-  const auto inRamOrNull = [this](int node) -> Signature* {
-    auto it = signatures_.find(node);
-    return it == signatures_.end() ? nullptr : &it->second;
-  };
+  // The other end of each link may be in RAM or, transferred meanwhile, only in the LTM
+  // (mutableSignature() is null then).
 
   // The links the reduced location hands on (to its neighbours in the chain and the locations it
   // closed loops with), from `id`. Marginalising it exactly would join all their ends in one
@@ -83,8 +80,8 @@ void Memory::reduce(int id, int into, std::set<int>& relinked) {
     const int hub = fromHub.from();
     for (const Link& other : handed) {
       if (other.to() == hub) continue;
-      Signature* a = inRamOrNull(hub);
-      Signature* b = inRamOrNull(other.to());
+      Signature* a = mutableSignature(hub);
+      Signature* b = mutableSignature(other.to());
       if ((a && a->hasLink(other.to())) || (b && b->hasLink(hub))) continue;  // already constrained
       const Link merged = fromHub.compose(other, Link::kNeighborMerged);
       if (a && b) {
@@ -100,7 +97,7 @@ void Memory::reduce(int id, int into, std::set<int>& relinked) {
   for (const auto& [to, link] : links) {
     if (to == id || to <= 0) continue;
     relinked.insert(to);
-    Signature* other = inRamOrNull(to);
+    Signature* other = mutableSignature(to);
     if (other) other->removeLink(id);
     if (writeLtm && (!other || other->isSaved())) ltm_->removeLink(to, id);
   }
