@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <future>
 
 #include "rtabmap_core/common/Error.h"
 
@@ -176,15 +177,34 @@ SensorData::ScanInfo SensorData::laserScanInfo() const {
 }
 
 void SensorData::compress(const std::string& imageFormat) {
-  if (!imageRaw_.empty()) imageCompressed_ = compressAnyImage(imageRaw_, imageFormat);
-  if (!depthOrRightRaw_.empty()) {
+  compressImages(imageFormat, false);
+  compressScanAndUserData();
+}
+
+void SensorData::compressImages(const std::string& imageFormat, bool parallel) {
+  auto depthOrRight = [this] {
+    if (depthOrRightRaw_.empty()) return;
     if (isStereo()) {
       // The right image stays lossless: jpeg blocks would bias the disparity of every match.
       depthOrRightCompressed_ = compressAnyImage(depthOrRightRaw_, ".png");
     } else {
       depthOrRightCompressed_ = codec::compressDepth(depthOrRightRaw_);
     }
+  };
+  // The two codecs touch disjoint members; get() rethrows what the other thread threw.
+  std::future<void> other;
+  if (parallel && !imageRaw_.empty() && !depthOrRightRaw_.empty()) {
+    other = std::async(std::launch::async, depthOrRight);
   }
+  if (!imageRaw_.empty()) imageCompressed_ = compressAnyImage(imageRaw_, imageFormat);
+  if (other.valid()) {
+    other.get();
+  } else {
+    depthOrRight();
+  }
+}
+
+void SensorData::compressScanAndUserData() {
   if (!laserScanRaw_.empty()) {
     laserScanCompressed_ = codec::compressData(laserScanRaw_.data());
     scanInfo_ = laserScanInfo();

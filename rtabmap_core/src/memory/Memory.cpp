@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rtabmap_core/codec/Compression.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/db/Database.h"
@@ -420,6 +421,25 @@ bool Memory::setLabel(int id, const std::string& label) {
   update.id = id;
   update.label = label;
   ltm_->updateNode(update);
+  return true;
+}
+
+bool Memory::setUserData(int id, const cv::Mat& data, std::string* why) {
+  auto fail = [why](const std::string& problem) {
+    if (why) *why = problem;
+    return false;
+  };
+  auto it = signatures_.find(id);
+  if (it == signatures_.end()) return fail("node " + std::to_string(id) + " is not in memory");
+  if (!options_.incremental) return fail("localization mode does not modify the map");
+  if (it->second.isSaved()) return fail("node " + std::to_string(id) + " is already saved");
+  SensorData& sensors = it->second.sensorData();
+  if (!sensors.userDataRaw().empty() || !sensors.userDataCompressed().empty()) {
+    return fail("node " + std::to_string(id) + " already has user data");
+  }
+  sensors.setUserData(data);
+  sensors.setCompressed(sensors.imageCompressed(), sensors.depthOrRightCompressed(), sensors.laserScanCompressed(),
+                        codec::compressData(data));
   return true;
 }
 

@@ -342,12 +342,15 @@ Transform RegistrationVis::estimate(const VisualFrame& from, const VisualFrame& 
   return transform;
 }
 
+bool RegistrationVis::needsImages() const {
+  return options_.correspondences.type == 1 || options_.estimationType == 0 || !options_.forwardEstOnly;
+}
+
 VisualFrame RegistrationVis::frameOf(Signature& node, std::string* problem) const {
   SensorData& data = node.sensorData();
   // Several cameras: the image tells each camera's width when the models do not.
-  const bool needImages = options_.correspondences.type == 1 || options_.estimationType == 0 ||
-                          !options_.forwardEstOnly || data.cameraModels().size() > 1 ||
-                          data.stereoCameraModels().size() > 1;
+  const bool needImages =
+      needsImages() || data.cameraModels().size() > 1 || data.stereoCameraModels().size() > 1;
   ImageFeatures features;
   std::vector<int> ids;
   if (!node.getWords().empty() && !node.getWordsDescriptors().empty()) {

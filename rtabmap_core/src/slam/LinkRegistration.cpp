@@ -86,6 +86,11 @@ Transform LinkRegistration::icp(const LaserScan& from, const LaserScan& to, cons
   return Transform();
 }
 
+bool LinkRegistration::visualNeedsImages() const {
+  const RegistrationVis* v = visual_ ? visual_.get() : visualIcp_ ? &visualIcp_->visual() : nullptr;
+  return v && v->needsImages();
+}
+
 float LinkRegistration::minComplexity() const {
   // ICP measures structural complexity from normals: point-to-plane only.
   const IcpOptions* o = icp_ ? &icp_->options() : visualIcp_ ? &visualIcp_->icp().options() : nullptr;

@@ -29,6 +29,8 @@ class LinkRegistration {
   int strategy() const { return strategy_; }
   bool usesVision() const { return strategy_ != 1; }
   bool usesScans() const { return strategy_ != 0; }
+  // Visual registration that reads the nodes' images beside their words (RegistrationVis).
+  bool visualNeedsImages() const;
   // Icp/PointToPlaneMinComplexity of the ICP used with Icp/PointToPlane (0 otherwise: ICP then
   // does not measure complexity).
   float minComplexity() const;

@@ -182,6 +182,9 @@ struct Rtabmap::Impl {
   // (Mem/ImagePostDecimation) and compressed, depth in millimetres (Mem/SaveDepth16Format), raw
   // images dropped unless Mem/ImageKept; the scan stays raw (registrations use it again and again).
   void compressForMemory(SensorData& data) const;
+  static SensorData imagesOf(const SensorData& data);
+  SensorData imagesForMemory(SensorData images, bool parallel) const;
+  void keepImages(SensorData& data, const SensorData& images) const;
   // Id (Mem/GenerateIds false), odometry pose, stamp, map and neighbour-link information.
   void setFrameOf(memory::LocationInput& in, const SensorData& raw, const Transform& odom,
                   const Covariance6& covariance) const;
@@ -245,6 +248,7 @@ struct Rtabmap::Impl {
 
   // RtabmapPlanning.cpp
   bool setGoal(const PlanGoal& goal);
+  void saveGoalInUserData(int goalNodeId);
   // Follows the plan this update: retrieval and immunity of the upcoming path nodes.
   void followPlan(int currentId, memory::LoopClosureUpdate& u, std::set<int>& immune);
 };

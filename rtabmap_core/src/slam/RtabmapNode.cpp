@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <future>
 
 #include "OdometryPrior.h"
 #include "ProximityByTime.h"
@@ -52,6 +53,12 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
       RTABMAP_WARN("frame " << raw.id() << ": images cannot be uncompressed (" << e.what() << "): no visual words");
     }
   }
+  // Mem/CompressionParallelized: the images the node keeps are shrunk and compressed on other
+  // threads while the markers, the words and the grid are made from the full images.
+  std::future<SensorData> keptImages;
+  if (options.compressionParallelized && options.binDataKept && !data.imageRaw().empty()) {
+    keptImages = std::async(std::launch::async, [this, images = imagesOf(data)] { return imagesForMemory(images, true); });
+  }
   detectMarkers(data);  // before decimation: the markers' corners need every pixel
   takeCarriedLandmarks(data, odom);
   {
@@ -76,7 +83,11 @@ memory::LocationInput Rtabmap::Impl::makeLocation(const SensorData& raw, const T
     // Working Memory holds images compressed (what the database stores); the scan stays raw
     // too, as proximity detection matches it again and again.
     StageTimer t(stats, Statistics::kTimingMemCompressing_data);
-    compressForMemory(data);  // after the local grid: it uses all pixels
+    if (keptImages.valid()) {
+      keepImages(data, keptImages.get());
+    } else {
+      compressForMemory(data);  // after the local grid: it uses all pixels
+    }
     data.setFeatures({}, {}, cv::Mat());  // the words hold what is kept of them
   }
   in.data = data;
@@ -95,11 +106,50 @@ void Rtabmap::Impl::applyScanFilter(SensorData& data, int frameId) const {
 }
 
 void Rtabmap::Impl::compressForMemory(SensorData& data) const {
-  data = decimateImages(data, options.imagePostDecimation);
-  if (options.saveDepth16 && !data.isStereo() && data.depthOrRightRaw().type() == CV_32FC1) {
-    data.setRGBDImage(data.imageRaw(), depthToMillimetres(data.depthOrRightRaw()), data.cameraModels());
+  keepImages(data, imagesForMemory(imagesOf(data), false));
+}
+
+SensorData Rtabmap::Impl::imagesOf(const SensorData& data) {
+  SensorData images;
+  if (data.isStereo()) {
+    images.setStereoImage(data.imageRaw(), data.depthOrRightRaw(), data.stereoCameraModels());
+  } else {
+    images.setRGBDImage(data.imageRaw(), data.depthOrRightRaw(), data.cameraModels());
   }
-  data.compress(options.imageFormat);
+  return images;
+}
+
+// What Working Memory and the database keep of the images: Mem/ImagePostDecimation times
+// smaller, the depth in millimetres with Mem/SaveDepth16Format, compressed. Mem/BinDataKept
+// false: only the camera models, scaled as the words' keypoints were.
+SensorData Rtabmap::Impl::imagesForMemory(SensorData images, bool parallel) const {
+  images = decimateImages(images, options.imagePostDecimation);
+  if (!options.binDataKept) {
+    if (images.isStereo()) {
+      images.setStereoImage(cv::Mat(), cv::Mat(), images.stereoCameraModels());
+    } else {
+      images.setRGBDImage(cv::Mat(), cv::Mat(), images.cameraModels());
+    }
+    return images;
+  }
+  if (options.saveDepth16 && !images.isStereo() && images.depthOrRightRaw().type() == CV_32FC1) {
+    images.setRGBDImage(images.imageRaw(), depthToMillimetres(images.depthOrRightRaw()), images.cameraModels());
+  }
+  images.compressImages(options.imageFormat, parallel);
+  return images;
+}
+
+// The node's data takes the kept images (the raw ones only with Mem/ImageKept); the scan stays
+// raw, as proximity detection matches it again and again.
+void Rtabmap::Impl::keepImages(SensorData& data, const SensorData& images) const {
+  if (images.isStereo()) {
+    data.setStereoImage(images.imageRaw(), images.depthOrRightRaw(), images.stereoCameraModels());
+  } else {
+    data.setRGBDImage(images.imageRaw(), images.depthOrRightRaw(), images.cameraModels());
+  }
+  data.compressScanAndUserData();
+  data.setCompressed(images.imageCompressed(), images.depthOrRightCompressed(), data.laserScanCompressed(),
+                     data.userDataCompressed());
   if (!options.imageKept) {
     const LaserScan scan = data.laserScanRaw();
     data.clearRaw();

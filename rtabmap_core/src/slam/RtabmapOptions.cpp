@@ -21,10 +21,12 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.useOdomFeatures = P::getBool(p, P::kMemUseOdomFeatures());
   o.covOffDiagIgnored = P::getBool(p, P::kMemCovOffDiagIgnored());
   o.imageKept = P::getBool(p, P::kMemImageKept());
+  o.binDataKept = P::getBool(p, P::kMemBinDataKept());
   o.imageFormat = P::getString(p, P::kMemImageCompressionFormat());
   o.imagePreDecimation = P::getInt(p, P::kMemImagePreDecimation());
   o.imagePostDecimation = P::getInt(p, P::kMemImagePostDecimation());
   o.saveDepth16 = P::getBool(p, P::kMemSaveDepth16Format());
+  o.compressionParallelized = P::getBool(p, P::kMemCompressionParallelized());
   o.imagesAlreadyRectified = P::getBool(p, P::kRtabmapImagesAlreadyRectified());
   o.computeRmse = P::getBool(p, P::kRtabmapComputeRMSE());
   o.loopClosureReextractFeatures = P::getBool(p, P::kRGBDLoopClosureReextractFeatures());
@@ -72,6 +74,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.angularSpeedUpdate = P::getFloat(p, P::kRGBDAngularSpeedUpdate());
   o.startAtOrigin = P::getBool(p, P::kRGBDStartAtOrigin());
   o.maxOdomCacheSize = P::getInt(p, P::kRGBDMaxOdomCacheSize());
+  o.goalsSavedInUserData = P::getBool(p, P::kRGBDGoalsSavedInUserData());
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
   return o;

@@ -29,7 +29,20 @@ bool Rtabmap::Impl::setGoal(const PlanGoal& goal) {
   const PlanResult r = planner.plan(goal, poses, graph::filterDuplicateLinks(links), lastNodeId, currentPose);
   if (!r.found) return refuseGoal("no path to the goal: " + r.why);
   RTABMAP_INFO("planned a path of " << r.path.size() << " nodes to node " << r.goalNodeId << " (cost " << r.cost << ")");
+  if (options.goalsSavedInUserData) saveGoalInUserData(r.goalNodeId);
   return true;
+}
+
+// RGBD/GoalsSavedInUserData, the original's text: the node where the robot was when it was
+// given the goal remembers it, by label when the goal node has one.
+void Rtabmap::Impl::saveGoalInUserData(int goalNodeId) {
+  const auto label = labelCache.find(goalNodeId);
+  std::string text = "GOAL:" + (label != labelCache.end() ? label->second : std::to_string(goalNodeId));
+  const cv::Mat bytes = cv::Mat(1, static_cast<int>(text.size()), CV_8UC1, text.data()).clone();
+  std::string why = "the robot is on no node";
+  if (lastNodeId == 0 || !detector->memory().setUserData(lastNodeId, bytes, &why)) {
+    RTABMAP_WARN(Parameters::kRGBDGoalsSavedInUserData() << ": \"" << text << "\" not saved: " << why);
+  }
 }
 
 void Rtabmap::Impl::followPlan(int currentId, memory::LoopClosureUpdate& u, std::set<int>& immune) {

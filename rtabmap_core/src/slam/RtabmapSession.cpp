@@ -31,6 +31,13 @@ void Rtabmap::Impl::open(const ParametersMap& p, const std::string& databasePath
     odometryCache = OdometryCache(cache);
   }
   if (options.metric) registration = std::make_unique<LinkRegistration>(p);
+  if (!options.binDataKept && registration && registration->visualNeedsImages()) {
+    RTABMAP_WARN(Parameters::kMemBinDataKept() << " is false but the visual registration of loop closures reads the "
+                                               << "nodes' images (" << Parameters::kVisCorType() << " 1, "
+                                               << Parameters::kVisEstimationType() << " 0 or "
+                                               << Parameters::kVisForwardEstOnly()
+                                               << " false): every loop closure's transform will fail");
+  }
   if (options.createIntermediateNodes && detectorOptions.memory.reduceGraph) {
     RTABMAP_WARN(Parameters::kMemReduceGraph() << " does not merge nodes next to intermediate nodes ("
                                                << Parameters::kRtabmapCreateIntermediateNodes()

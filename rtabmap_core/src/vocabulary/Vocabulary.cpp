@@ -48,6 +48,7 @@ VocabularyOptions VocabularyOptions::fromParameters(const ParametersMap& paramet
   o.rebalancingFactor = Parameters::getFloat(parameters, Parameters::kKpFlannRebalancingFactor());
   o.byteToFloat = Parameters::getBool(parameters, Parameters::kKpByteToFloat());
   o.newWordsComparedTogether = Parameters::getBool(parameters, Parameters::kKpNewWordsComparedTogether());
+  o.rebuildInBackground = Parameters::getBool(parameters, Parameters::kKpParallelized());
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
   return o;

@@ -141,8 +141,8 @@ TEST(ParameterRegistry, AParameterOfTheOriginalNotImplementedHereAcceptsOnlyItsD
   EXPECT_NE(why.find("RGBD/LocalBundleOnLoopClosure"), std::string::npos) << why;
   EXPECT_NE(why.find("not implemented here (no bundle adjustment of loop-closure transforms)"), std::string::npos) << why;
   EXPECT_NE(why.find("default \"false\""), std::string::npos) << why;
-  EXPECT_TRUE(Parameters::isValid("Kp/Parallelized", "true"));
-  EXPECT_FALSE(Parameters::isValid("Kp/Parallelized", "false"));
+  EXPECT_TRUE(Parameters::isValid("Mem/RawDescriptorsKept", "true"));
+  EXPECT_FALSE(Parameters::isValid("Mem/RawDescriptorsKept", "false"));
   EXPECT_TRUE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.750"));
   EXPECT_FALSE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.5"));
   EXPECT_FALSE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "maybe", &why));

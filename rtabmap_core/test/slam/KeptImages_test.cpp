@@ -113,6 +113,82 @@ TEST(NodeImages, FloatDepthIsKeptAsMillimetresWithSaveDepth16Format) {
   }
 }
 
+// Mem/CompressionParallelized (default) shrinks and compresses the kept images beside the words
+// and the grid: the node keeps the same bytes as without it, and a stereo node its right image
+// lossless; the scan stays raw, the images only compressed (Mem/ImageKept false).
+TEST(NodeImages, ParallelCompressionKeepsWhatSequentialCompressionKeeps) {
+  auto keptBy = [](bool parallel, const SensorData& frame) {
+    Rtabmap slam;
+    ParametersMap p = test::everyFrame();
+    p["Mem/CompressionParallelized"] = parallel ? "true" : "false";
+    p["Mem/ImagePostDecimation"] = "2";
+    p["Mem/SaveDepth16Format"] = "true";
+    slam.init(p, "");
+    EXPECT_TRUE(slam.process(frame, Transform::Identity(), test::smallCov())) << slam.lastRejection();
+    return slam.node(slam.lastNodeId())->sensorData();
+  };
+  SensorData rgbd = texturedFrame(1, 1.0);
+  cv::Mat points(1, 50, CV_32FC2);
+  for (int i = 0; i < points.cols; ++i) points.at<cv::Vec2f>(i) = cv::Vec2f(2.f, -1.f + 0.04f * static_cast<float>(i));
+  rgbd.setLaserScan(LaserScan(points, 50, 0.1, 10.0, LaserScan::kXY));
+  const SensorData sequential = keptBy(false, rgbd), parallel = keptBy(true, rgbd);
+  ASSERT_FALSE(parallel.imageCompressed().empty());
+  ASSERT_FALSE(parallel.depthOrRightCompressed().empty());
+  EXPECT_EQ(parallel.imageCompressed(), sequential.imageCompressed());
+  EXPECT_EQ(parallel.depthOrRightCompressed(), sequential.depthOrRightCompressed());
+  EXPECT_EQ(parallel.laserScanCompressed(), sequential.laserScanCompressed());
+  EXPECT_TRUE(parallel.imageRaw().empty());
+  EXPECT_TRUE(parallel.depthOrRightRaw().empty());
+  EXPECT_EQ(parallel.laserScanRaw().size(), 50);
+  ASSERT_EQ(parallel.cameraModels().size(), 1u);
+  EXPECT_NEAR(parallel.cameraModels().front().fx(), 525.0 / 2, 1e-9);
+  SensorData depth = parallel;
+  depth.uncompress(true, true, false, false);
+  EXPECT_EQ(depth.depthOrRightRaw().type(), CV_16UC1);
+  EXPECT_EQ(depth.imageRaw().cols, kWidth / 2);
+
+  const SensorData mono = texturedFrame(2, 2.0);
+  cv::Mat left;
+  cv::cvtColor(mono.imageRaw(), left, cv::COLOR_BGR2GRAY);
+  const StereoCameraModel stereo(525.0, 525.0, 319.5, 239.5, 0.1, CameraModel::opticalRotation(),
+                                 cv::Size(kWidth, kHeight));
+  const SensorData pair(left, left.clone(), stereo, 2, 2.0);
+  const SensorData stereoSequential = keptBy(false, pair), stereoParallel = keptBy(true, pair);
+  EXPECT_EQ(stereoParallel.depthOrRightCompressed(), stereoSequential.depthOrRightCompressed());
+  SensorData right = stereoParallel;
+  right.uncompress(true, true, false, false);
+  ASSERT_TRUE(right.isStereo());
+  cv::Mat shrunk;
+  cv::resize(left, shrunk, cv::Size(kWidth / 2, kHeight / 2), 0, 0, cv::INTER_AREA);
+  EXPECT_EQ(cv::norm(right.depthOrRightRaw(), shrunk, cv::NORM_INF), 0.0) << "the right image is kept lossless";
+}
+
+// Mem/BinDataKept false: the node keeps its words, grid, scan and camera models (scaled as its
+// keypoints were), not its images.
+TEST(NodeImages, WithoutBinDataTheNodeKeepsEverythingButItsImages) {
+  Rtabmap slam;
+  ParametersMap p = test::everyFrame();
+  p["Mem/BinDataKept"] = "false";
+  p["Mem/ImagePostDecimation"] = "2";
+  p["RGBD/CreateOccupancyGrid"] = "true";  // from the depth image, before it goes
+  slam.init(p, "");
+  SensorData frame = texturedFrame(1, 1.0);
+  cv::Mat points(1, 50, CV_32FC2, cv::Scalar(2.f, 0.5f));
+  frame.setLaserScan(LaserScan(points, 50, 0.1, 10.0, LaserScan::kXY));
+  ASSERT_TRUE(slam.process(frame, Transform::Identity(), test::smallCov())) << slam.lastRejection();
+  const std::optional<Signature> node = slam.node(slam.lastNodeId());
+  ASSERT_TRUE(node.has_value());
+  const SensorData& data = node->sensorData();
+  EXPECT_TRUE(data.imageRaw().empty() && data.imageCompressed().empty());
+  EXPECT_TRUE(data.depthOrRightRaw().empty() && data.depthOrRightCompressed().empty());
+  ASSERT_EQ(data.cameraModels().size(), 1u);
+  EXPECT_NEAR(data.cameraModels().front().fx(), 525.0 / 2, 1e-9);
+  EXPECT_EQ(data.laserScanRaw().size(), 50);
+  EXPECT_FALSE(data.localGrid().isEmpty());
+  ASSERT_GT(node->getWordsKpts().size(), 50u);
+  for (const cv::KeyPoint& k : node->getWordsKpts()) ASSERT_LT(k.pt.x, kWidth / 2.f);
+}
+
 // Rtabmap/ImagesAlreadyRectified false: the node keeps the rectified images, with rectified
 // models; by default the images are taken as they come.
 TEST(NodeImages, RawImagesAreRectifiedWhenNotAlreadyRectified) {

@@ -12,6 +12,7 @@
 #include "PoseOnlyFrames.h"
 #include "common/HeapHoles.h"
 #include "common/TestData.h"
+#include "rtabmap_core/codec/Compression.h"
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/memory/ProcessMemory.h"
@@ -351,6 +352,44 @@ TEST(Rtabmap, GoalsByIdLabelAndPoseAreFollowedUntilReached) {
   EXPECT_EQ(slam.goalPath().back().first, 2);
   slam.cancelGoal();
   EXPECT_TRUE(slam.goalPath().empty());
+}
+
+// RGBD/GoalsSavedInUserData: the node where the robot was given a goal keeps "GOAL:<label>"
+// (or the goal node's id), in the database too; user data already there stays, and nothing is
+// written by default.
+TEST(Rtabmap, AcceptedGoalsAreWrittenInTheUserDataOfTheRobotsNode) {
+  test::TempDir dir("rtabmap_slam_goals");
+  auto text = [](const SensorData& data) {
+    const cv::Mat raw = data.userDataRaw().empty() ? codec::uncompressData(data.userDataCompressed()) : data.userDataRaw();
+    return raw.empty() ? std::string() : std::string(raw.ptr<char>(0), raw.total());
+  };
+  for (const bool saved : {false, true}) {
+    SCOPED_TRACE(saved ? "RGBD/GoalsSavedInUserData" : "default");
+    const std::string path = dir.file(saved ? "goals.db" : "default.db");
+    Rtabmap slam;
+    ParametersMap p = everyFrame();
+    p["RGBD/GoalsSavedInUserData"] = saved ? "true" : "false";
+    slam.init(p, path);
+    int stamp = 0;
+    for (int i = 0; i <= 10; ++i, ++stamp) ASSERT_TRUE(slam.process(frame(stamp + 1, stamp + 1.0), along(0.5 * i), smallCov()));
+    ASSERT_TRUE(slam.setLabel(6, "printer"));
+    const int first = slam.lastNodeId();
+    ASSERT_TRUE(slam.setGoal(std::string("printer"))) << slam.lastRejection();
+    ASSERT_TRUE(slam.setGoal(3)) << slam.lastRejection();  // same node: the first goal stays
+    ASSERT_TRUE(slam.process(frame(stamp + 1, stamp + 1.0), Transform(4.5, 0, 0, 0, 0, M_PI), smallCov()));
+    const int second = slam.lastNodeId();
+    ASSERT_NE(second, first);
+    ASSERT_TRUE(slam.setGoal(2)) << slam.lastRejection();
+    EXPECT_EQ(text(slam.node(first)->sensorData()), saved ? "GOAL:printer" : "");
+    EXPECT_EQ(text(slam.node(second)->sensorData()), saved ? "GOAL:2" : "");
+    slam.close();
+    db::Database::Options readOnly;
+    readOnly.readOnly = true;
+    db::Database reader(path, readOnly);
+    EXPECT_EQ(text(reader.loadNode(first)->sensorData()), saved ? "GOAL:printer" : "");
+    EXPECT_EQ(text(reader.loadNode(second)->sensorData()), saved ? "GOAL:2" : "");
+    EXPECT_EQ(text(reader.loadNode(first - 1)->sensorData()), "");
+  }
 }
 
 }  // namespace

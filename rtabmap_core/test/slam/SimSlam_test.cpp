@@ -15,6 +15,7 @@
 
 #include "SimSlam.h"
 #include "common/TestData.h"
+#include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/eval/DatasetReader.h"
 #include "rtabmap_core/maps/OccupancyGrid.h"
 
@@ -165,6 +166,50 @@ TEST(SimSlam, TheSameRunTwiceGivesTheSameMap) {
     EXPECT_TRUE(a->second.transform().toEigen().isApprox(b->second.transform().toEigen(), 0.0))
         << a->second.from() << " -> " << a->second.to();
   }
+}
+
+// Mem/BinDataKept false: the nodes keep no image, and the map is the same to the bit (loop
+// closures are registered from the words, proximity from the scans) from a smaller database:
+// the simulator's synthetic images, which compress well, are 45% of it (the words, scans and
+// grids the rest); a camera's are more.
+TEST(SimSlam, WithoutImagesTheSameMapComesFromASmallerDatabase) {
+  REQUIRE_SIM(folder, "loop");
+  test::TempDir dir("rtabmap_slam_bin_data");
+  ParametersMap p = test::simSlamParameters();
+  SimSlamRun full, light;
+  test::runSimSlam(folder, p, dir.file("full.db"), full);
+  p["Mem/BinDataKept"] = "false";
+  test::runSimSlam(folder, p, dir.file("light.db"), light);
+  ASSERT_GE(full.summary.loopClosures, 5);
+  EXPECT_EQ(light.summary.loopClosures, full.summary.loopClosures);
+  ASSERT_EQ(light.optimized.size(), full.optimized.size());
+  for (const auto& [id, pose] : full.optimized) {
+    auto it = light.optimized.find(id);
+    ASSERT_NE(it, light.optimized.end()) << "node " << id;
+    EXPECT_TRUE(it->second.toEigen().isApprox(pose.toEigen(), 0.0)) << "node " << id;
+  }
+  const auto fullBytes = std::filesystem::file_size(dir.file("full.db"));
+  const auto lightBytes = std::filesystem::file_size(dir.file("light.db"));
+  RecordProperty("full_db_bytes", std::to_string(fullBytes));
+  RecordProperty("light_db_bytes", std::to_string(lightBytes));
+  EXPECT_LT(lightBytes * 10, fullBytes * 7);
+
+  db::DatabaseOptions readOnly;
+  readOnly.readOnly = true;
+  db::Database db(dir.file("light.db"), readOnly);
+  int checked = 0;
+  for (int id : db.nodeIds()) {
+    const std::optional<Signature> node = db.loadNode(id);
+    ASSERT_TRUE(node.has_value());
+    const SensorData& data = node->sensorData();
+    EXPECT_TRUE(data.imageCompressed().empty()) << "node " << id;
+    EXPECT_TRUE(data.depthOrRightCompressed().empty()) << "node " << id;
+    EXPECT_FALSE(data.cameraModels().empty() && data.stereoCameraModels().empty()) << "node " << id;
+    EXPECT_FALSE(data.laserScanCompressed().empty()) << "node " << id;
+    EXPECT_FALSE(data.localGrid().isEmpty()) << "node " << id;
+    checked += node->getWords().empty() ? 0 : 1;
+  }
+  EXPECT_GT(checked, 100) << "nodes with words";
 }
 
 TEST(SimSlam, ReverseLapClosesWithLaserProximity) {

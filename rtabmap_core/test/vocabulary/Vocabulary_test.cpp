@@ -246,12 +246,22 @@ TEST(Vocabulary, IncrementalBinaryIndexAnswersLikeBruteForce) {
   EXPECT_GE(matched, 100);
 }
 
-// Rebuilt at once (VocabularyOptions::rebuildInBackground false): the build is visible in the
-// very call that triggers it.
+// Rebuilt at once (VocabularyOptions::rebuildInBackground false, Kp/Parallelized false): the
+// build is visible in the very call that triggers it.
 VocabularyOptions rebuiltAtOnce() {
   VocabularyOptions o;
   o.rebuildInBackground = false;
   return o;
+}
+
+TEST(Vocabulary, KpParallelizedChoosesWhereTheIndexIsRebuilt) {
+  EXPECT_TRUE(VocabularyOptions::fromParameters({}).rebuildInBackground);
+  const VocabularyOptions atOnce = VocabularyOptions::fromParameters({{"Kp/Parallelized", "false"}});
+  EXPECT_FALSE(atOnce.rebuildInBackground);
+  Vocabulary v(atOnce);
+  v.quantize(randomFloat(100, 256, 1), 1);
+  v.quantize(randomFloat(120, 256, 2), 2);  // 220 > 2 x 100: rebuilt within this call
+  EXPECT_EQ(v.summary().indexBuilds, 2);
 }
 
 TEST(Vocabulary, IndexIsRebuiltWhenTheVocabularyDoubles) {

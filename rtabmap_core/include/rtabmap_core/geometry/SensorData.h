@@ -153,6 +153,10 @@ class SensorData {
   // fall back to png or zlib. Raw data is kept. Setting new images clears stale compressed
   // images.
   void compress(const std::string& imageFormat = ".jpg");
+  // The two halves of compress(): the images (the image and the depth or right image on two
+  // threads when parallel, Mem/CompressionParallelized), and the scan with the user data.
+  void compressImages(const std::string& imageFormat, bool parallel);
+  void compressScanAndUserData();
   // Fills the raw form from the compressed data, only for the parts asked. Throws FormatError
   // on corrupt bytes.
   void uncompress(bool image = true, bool depthOrRight = true, bool scan = true, bool userData = true);

@@ -169,6 +169,9 @@ class Memory {
   std::vector<int> retrieveIds(const std::vector<int>& ids);
   // Label of a location in RAM (saved again when it leaves) or in the LTM. False if unknown.
   bool setLabel(int id, const std::string& label);
+  // User data of a location in RAM not saved yet (it is written when the location leaves), if
+  // it has none: user data given with the input is never overwritten. False, with why, if not.
+  bool setUserData(int id, const cv::Mat& data, std::string* why);
 
   // Algorithm 3: brings back from LTM at most Rtabmap/MaxRetrieved locations near `id` (within
   // the neighbourhood range, breadth first, neighbours in time before neighbours in space), their

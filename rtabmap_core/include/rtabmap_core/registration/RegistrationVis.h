@@ -122,6 +122,10 @@ class RegistrationVis {
 
   const RegistrationVisOptions& options() const { return options_; }
   const FeatureDetector& detector() const { return *detector_; }
+  // Whether registering two nodes reads their images beside their words: optical flow
+  // (Vis/CorType 1), 3D-3D estimation (Vis/EstimationType 0) and the backward check
+  // (Vis/ForwardEstOnly false) do; so do several cameras whose models lack image sizes.
+  bool needsImages() const;
 
   // Registration of two nodes. A node's features are its words (keypoints, 3D, descriptors)
   // if it has some, else the features of its sensor data, else they are extracted now from its

@@ -22,10 +22,12 @@ struct RtabmapOptions {
   bool useOdomFeatures = true;            // Mem/UseOdomFeatures
   bool covOffDiagIgnored = true;          // Mem/CovOffDiagIgnored
   bool imageKept = false;                 // Mem/ImageKept
+  bool binDataKept = true;                // Mem/BinDataKept
   std::string imageFormat = ".jpg";       // Mem/ImageCompressionFormat
   int imagePreDecimation = 1;             // Mem/ImagePreDecimation
   int imagePostDecimation = 1;            // Mem/ImagePostDecimation
   bool saveDepth16 = false;               // Mem/SaveDepth16Format
+  bool compressionParallelized = true;    // Mem/CompressionParallelized
   bool imagesAlreadyRectified = true;     // Rtabmap/ImagesAlreadyRectified
   bool computeRmse = true;                // Rtabmap/ComputeRMSE
   bool loopClosureReextractFeatures = false;  // RGBD/LoopClosureReextractFeatures
@@ -79,6 +81,8 @@ struct RtabmapOptions {
   // Localization
   bool startAtOrigin = false;             // RGBD/StartAtOrigin
   int maxOdomCacheSize = 10;              // RGBD/MaxOdomCacheSize
+  // Path planning
+  bool goalsSavedInUserData = false;      // RGBD/GoalsSavedInUserData
 
   // Throws ParameterError on an undeclared key or an invalid value (naming the key).
   static RtabmapOptions fromParameters(const ParametersMap& parameters);

@@ -54,7 +54,7 @@ struct VocabularyOptions {
   // 7-Scenes (521 accepted loop closures against 538 with 32, none false in both).
   int searchChecks = 32;
   // Incremental rebuilds on another thread (see above); false: at once, on the caller's.
-  bool rebuildInBackground = true;
+  bool rebuildInBackground = true;              // Kp/Parallelized
 
   static VocabularyOptions fromParameters(const ParametersMap& parameters);
   bool IsValid(std::string* why = nullptr) const;
