@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <future>
+#include <optional>
+#include <stdexcept>
 
 #include "OdometryPrior.h"
 #include "ProximityByTime.h"
@@ -266,21 +268,24 @@ std::vector<int> Rtabmap::Impl::chainToPreviousNode(int previousId) const {
   return chain;
 }
 
+// The odometry links of the chain composed (Link::compose: each link's noise carried into the
+// frame of the whole, not summed as if every link were measured along the same axes).
 Link Rtabmap::Impl::chainOdometry(const std::vector<int>& chain, int newId) const {
   const memory::Memory& memory = detector->memory();
-  Transform t = Transform::Identity();
-  Link::InfMatrix covariance = Link::InfMatrix::Zero();  // of links in series: the sum
+  std::optional<Link> whole;
   for (size_t j = 0; j < chain.size(); ++j) {
     const int next = j + 1 < chain.size() ? chain[j + 1] : newId;
     const Signature* s = memory.signature(next);
     for (const auto& [to, link] : s->getLinks()) {
       if (link.type() != Link::kNeighbor || to != chain[j]) continue;
-      const Link forward = link.inverse();
-      t = t * forward.transform();
-      covariance += forward.infMatrix().inverse();
+      whole = whole ? whole->compose(link.inverse(), Link::kNeighbor) : link.inverse();
     }
   }
-  return Link(chain.front(), newId, Link::kNeighbor, t, informationOf(covariance, options.covOffDiagIgnored));
+  // chainToPreviousNode() built the chain from these links.
+  if (!whole) throw std::logic_error("chainOdometry: no neighbour link along the chain to node " + std::to_string(newId));
+  const Link::InfMatrix covariance = whole->infMatrix().inverse();
+  return Link(chain.front(), newId, Link::kNeighbor, whole->transform(),
+              informationOf(covariance, options.covOffDiagIgnored));
 }
 
 // The refined motion from chain[0] to newId, `refined`, replaces the odometry's, `odometry`,
