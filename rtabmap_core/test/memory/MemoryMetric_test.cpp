@@ -5,6 +5,7 @@
 
 #include "MemoryTestPlaces.h"
 #include "common/TestData.h"
+#include "rtabmap_core/codec/Compression.h"
 #include "rtabmap_core/db/Database.h"
 #include "rtabmap_core/memory/Memory.h"
 
@@ -109,6 +110,44 @@ TEST(MemoryMetric, LocationsLoadedByIdAndLabels) {
   EXPECT_EQ(m.signature(1)->label(), "dock");
   EXPECT_EQ(m.signature(1)->getWords().size(), 100u);
   EXPECT_TRUE(m.wm().count(1));
+}
+
+// User data reaches a location not saved yet (the goals of RGBD/GoalsSavedInUserData): never
+// over data it has, nor a saved or unknown location, nor in localization mode.
+TEST(MemoryMetric, UserDataOnlyForANewLocationWithout) {
+  rtabmap::test::TempDir dir;
+  db::Database ltm(dir.file("ltm.db"));
+  MemoryOptions o = metric();
+  o.stmSize = 1;
+  o.recentWmRatio = 0.f;
+  Memory m(o, &ltm);
+  for (int p = 1; p <= 5; ++p) m.addLocation(at(p, 0, p));
+  m.transfer({}, 0, 1, false);
+  ASSERT_FALSE(m.inRam(1));
+  const std::string goal = "GOAL:7";
+  const cv::Mat text = cv::Mat(1, static_cast<int>(goal.size()), CV_8UC1, const_cast<char*>(goal.data())).clone();
+  std::string why;
+  ASSERT_TRUE(m.setUserData(5, text, &why)) << why;
+  EXPECT_EQ(cv::norm(codec::uncompressData(m.signature(5)->sensorData().userDataCompressed()), text, cv::NORM_INF), 0.0);
+  EXPECT_FALSE(m.setUserData(5, cv::Mat(1, 3, CV_8UC1, cv::Scalar(1)), &why));
+  EXPECT_NE(why.find("already has user data"), std::string::npos) << why;
+  EXPECT_FALSE(m.setUserData(1, text, &why));
+  EXPECT_NE(why.find("not in memory"), std::string::npos) << why;
+  const std::vector<int> back = m.retrieveIds({2});
+  ASSERT_EQ(back, std::vector<int>{2});
+  EXPECT_FALSE(m.setUserData(2, text, &why));
+  EXPECT_NE(why.find("already saved"), std::string::npos) << why;
+  m.saveAll();
+  const std::optional<Signature> saved = ltm.loadNode(5);
+  ASSERT_TRUE(saved.has_value());
+  EXPECT_EQ(cv::norm(codec::uncompressData(saved->sensorData().userDataCompressed()), text, cv::NORM_INF), 0.0);
+
+  MemoryOptions localization = metric();
+  localization.incremental = false;
+  Memory l(localization, nullptr);
+  AddResult r = l.addLocation(at(9, 0, 9.0));
+  EXPECT_FALSE(l.setUserData(r.id, text, &why));
+  EXPECT_NE(why.find("localization"), std::string::npos) << why;
 }
 
 TEST(MemoryMetric, LocalizationNeverWritesTheLtm) {
