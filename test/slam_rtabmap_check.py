@@ -18,7 +18,7 @@ from nav_msgs.srv import GetMap
 from std_srvs.srv import Empty
 from tf2_msgs.msg import TFMessage
 
-from rtabmap_ros.msg import Info, MapGraph
+from rtabmap_ros.msg import Info, MapData, MapGraph
 from rtabmap_ros.srv import ListLabels, SetLabel
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -33,6 +33,8 @@ class SlamRtabmapTest(unittest.TestCase):
         rospy.Subscriber("/info", Info, self.info.append)
         rospy.Subscriber("/mapGraph", MapGraph, self.graphs.append)
         rospy.Subscriber("/grid_map", OccupancyGrid, self.grids.append)
+        self.map_data = []
+        rospy.Subscriber("/mapData", MapData, self.map_data.append)
         # Ground truth and wheel odometry of the bag, by stamp (both are written at each frame).
         self.truth, self.odom = {}, {}
         rospy.Subscriber("/ground_truth", Odometry, lambda m: self.truth.__setitem__(m.header.stamp.to_nsec(), m))
@@ -89,6 +91,12 @@ class SlamRtabmapTest(unittest.TestCase):
         rospy.loginfo("mapGraph: %d nodes, %d links (%d loop closure / proximity)",
                       len(graph.posesId), len(graph.links), len(loops))
         self.assertGreater(len(loops), 0, "no loop-closure or proximity link in mapGraph")
+
+        # Rtabmap/PublishLastSignature false (slam_rtabmap.test): each update's mapData has the
+        # graph, and no node's data.
+        self.assertGreater(len(self.map_data), 20, "too few mapData")
+        self.assertGreater(len(self.map_data[-1].graph.posesId), 20)
+        self.assertTrue(all(not m.nodes for m in self.map_data), "mapData carries node data")
 
         self.check_map_to_odom(graph)
         self.check_accuracy(graph)

@@ -30,9 +30,11 @@ void RtabmapNodelet::publishMarkers(const ros::Time& stamp, bool force) {
 void RtabmapNodelet::publishLatestNodeData(const ros::Time& stamp) {
   // The graph as mapGraph has it, and the data of the node this update added (none in
   // localization mode or when the update only rehearsed): a listener accumulates the nodes.
+  // Rtabmap/PublishLastSignature false: the graph alone, for a remote viewer on a thin link
+  // (get_node_data gives the nodes it wants).
   std::map<int, rtabmap::Signature> nodes;
   const int id = core_->statistics().refImageId;
-  if (id > 0) {
+  if (id > 0 && rtabmap::Parameters::getBool(parameters_, rtabmap::Parameters::kRtabmapPublishLastSignature())) {
     if (std::optional<rtabmap::Signature> s = core_->node(id)) nodes.emplace(id, std::move(*s));
   }
   mapDataPub_.publish(rtabmap_conversions::mapDataToMsg(core_->optimizedPoses(), core_->allLinks(), nodes,
