@@ -91,15 +91,27 @@ TEST(MemoryMetric, LinksAddedAndRemovedOnBothEnds) {
   EXPECT_FALSE(m.removeLink(100, 101, Link::kUndef));
 }
 
-TEST(MemoryMetric, LocationsLoadedByIdAndLabels) {
+// Five locations in a memory with a database (STM of one, no recent part of WM protected), the
+// first of them transferred to the LTM.
+struct FiveLocationsFirstInLtm {
+  static MemoryOptions options() {
+    MemoryOptions o = metric();
+    o.stmSize = 1;
+    o.recentWmRatio = 0.f;
+    return o;
+  }
+  FiveLocationsFirstInLtm() {
+    for (int p = 1; p <= 5; ++p) m.addLocation(at(p, 0, p));
+    m.transfer({}, 0, 1, false);
+  }
   rtabmap::test::TempDir dir;
-  db::Database ltm(dir.file("ltm.db"));
-  MemoryOptions o = metric();
-  o.stmSize = 1;
-  o.recentWmRatio = 0.f;
-  Memory m(o, &ltm);
-  for (int p = 1; p <= 5; ++p) m.addLocation(at(p, 0, p));
-  m.transfer({}, 0, 1, false);
+  db::Database ltm{dir.file("ltm.db")};
+  Memory m{options(), &ltm};
+};
+
+TEST(MemoryMetric, LocationsLoadedByIdAndLabels) {
+  FiveLocationsFirstInLtm five;
+  Memory& m = five.m;
   ASSERT_FALSE(m.inRam(1));
   EXPECT_TRUE(m.setLabel(1, "dock")) << "a label reaches a location in the LTM";
   EXPECT_TRUE(m.setLabel(5, "door"));
@@ -115,14 +127,8 @@ TEST(MemoryMetric, LocationsLoadedByIdAndLabels) {
 // User data reaches a location not saved yet (the goals of RGBD/GoalsSavedInUserData): never
 // over data it has, nor a saved or unknown location, nor in localization mode.
 TEST(MemoryMetric, UserDataOnlyForANewLocationWithout) {
-  rtabmap::test::TempDir dir;
-  db::Database ltm(dir.file("ltm.db"));
-  MemoryOptions o = metric();
-  o.stmSize = 1;
-  o.recentWmRatio = 0.f;
-  Memory m(o, &ltm);
-  for (int p = 1; p <= 5; ++p) m.addLocation(at(p, 0, p));
-  m.transfer({}, 0, 1, false);
+  FiveLocationsFirstInLtm five;
+  Memory& m = five.m;
   ASSERT_FALSE(m.inRam(1));
   const std::string goal = "GOAL:7";
   const cv::Mat text = cv::Mat(1, static_cast<int>(goal.size()), CV_8UC1, const_cast<char*>(goal.data())).clone();
@@ -138,7 +144,7 @@ TEST(MemoryMetric, UserDataOnlyForANewLocationWithout) {
   EXPECT_FALSE(m.setUserData(2, text, &why));
   EXPECT_NE(why.find("already saved"), std::string::npos) << why;
   m.saveAll();
-  const std::optional<Signature> saved = ltm.loadNode(5);
+  const std::optional<Signature> saved = five.ltm.loadNode(5);
   ASSERT_TRUE(saved.has_value());
   EXPECT_EQ(cv::norm(codec::uncompressData(saved->sensorData().userDataCompressed()), text, cv::NORM_INF), 0.0);
 

@@ -29,6 +29,15 @@ std::string fileBytes(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// Every node of `expected` in `actual`, at the same pose to the bit.
+void expectSamePoses(const std::map<int, Transform>& expected, const std::map<int, Transform>& actual) {
+  for (const auto& [id, pose] : expected) {
+    auto it = actual.find(id);
+    ASSERT_NE(it, actual.end()) << "node " << id;
+    EXPECT_TRUE(it->second.toEigen().isApprox(pose.toEigen(), 0.0)) << "node " << id;
+  }
+}
+
 TEST(SimSlam, LoopClosesVisuallyThenLocalizesWithoutWriting) {
   REQUIRE_SIM(folder, "loop");
   test::TempDir dir("rtabmap_slam_loop");
@@ -153,11 +162,7 @@ TEST(SimSlam, TheSameRunTwiceGivesTheSameMap) {
   EXPECT_EQ(second.summary.loopClosures, first.summary.loopClosures);
   EXPECT_EQ(second.summary.nodesAdded, first.summary.nodesAdded);
   ASSERT_EQ(second.optimized.size(), first.optimized.size());
-  for (const auto& [id, pose] : first.optimized) {
-    auto it = second.optimized.find(id);
-    ASSERT_NE(it, second.optimized.end()) << "node " << id;
-    EXPECT_TRUE(it->second.toEigen().isApprox(pose.toEigen(), 0.0)) << "node " << id;
-  }
+  expectSamePoses(first.optimized, second.optimized);
   ASSERT_EQ(second.links.size(), first.links.size());
   for (auto a = first.links.begin(), b = second.links.begin(); a != first.links.end(); ++a, ++b) {
     EXPECT_EQ(a->second.from(), b->second.from());
@@ -183,11 +188,7 @@ TEST(SimSlam, WithoutImagesTheSameMapComesFromASmallerDatabase) {
   ASSERT_GE(full.summary.loopClosures, 5);
   EXPECT_EQ(light.summary.loopClosures, full.summary.loopClosures);
   ASSERT_EQ(light.optimized.size(), full.optimized.size());
-  for (const auto& [id, pose] : full.optimized) {
-    auto it = light.optimized.find(id);
-    ASSERT_NE(it, light.optimized.end()) << "node " << id;
-    EXPECT_TRUE(it->second.toEigen().isApprox(pose.toEigen(), 0.0)) << "node " << id;
-  }
+  expectSamePoses(full.optimized, light.optimized);
   const auto fullBytes = std::filesystem::file_size(dir.file("full.db"));
   const auto lightBytes = std::filesystem::file_size(dir.file("light.db"));
   RecordProperty("full_db_bytes", std::to_string(fullBytes));
