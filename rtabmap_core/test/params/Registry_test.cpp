@@ -145,6 +145,11 @@ TEST(ParameterRegistry, AParameterOfTheOriginalNotImplementedHereAcceptsOnlyItsD
   EXPECT_FALSE(Parameters::isValid("Mem/RawDescriptorsKept", "false"));
   EXPECT_TRUE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.750"));
   EXPECT_FALSE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.5"));
+  // Its default is what happens here (merged nodes are never saved), not the original's true:
+  // a launch file asking for false is accepted, one asking to keep them is told it cannot.
+  EXPECT_TRUE(Parameters::isValid("Mem/NotLinkedNodesKept", "false"));
+  EXPECT_FALSE(Parameters::isValid("Mem/NotLinkedNodesKept", "true", &why));
+  EXPECT_NE(why.find("never saved"), std::string::npos) << why;
   EXPECT_FALSE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "maybe", &why));
   EXPECT_NE(why.find("not a bool"), std::string::npos) << why;
   EXPECT_EQ(Parameters::info("RGBD/LocalBundleOnLoopClosure").expectation(), "its default only (not implemented here)");
