@@ -311,11 +311,14 @@ AddResult Memory::addIntermediate(const LocationInput& in, int id) {
 // T-RO 2013, III-C: the new location and the previous one are the same place; one of them
 // remains with weight (previous weight + new weight + 1). By default the previous keeps its id
 // and the new one is dropped; with Mem/RehearsalIdUpdatedToNewOne the new one stays and takes
-// over the previous one's links.
+// over the previous one's links, unless the previous one is already saved (Mem/STMSize 0 saves
+// a location as it enters WM): the database keeps every location it acknowledged, so that one
+// stays and the new one goes, as by default.
 void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) {
   const int weight = previous.weight() + fresh.weight() + 1;
-  Signature& removed = options_.rehearsalIdUpdatedToNewOne ? previous : fresh;
-  Signature& kept = options_.rehearsalIdUpdatedToNewOne ? fresh : previous;
+  const bool newIdKept = options_.rehearsalIdUpdatedToNewOne && !previous.isSaved();
+  Signature& removed = newIdKept ? previous : fresh;
+  Signature& kept = newIdKept ? fresh : previous;
   const int removedId = removed.id();
   removeLinkBetween(kept, removed);
   // The removed location's other links now end on the kept one (its own gravity link stays
@@ -333,12 +336,22 @@ void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) 
       kept.addLink(moved);
       continue;
     }
-    Signature* other = signatures_.count(to) ? &signatures_.at(to) : nullptr;
-    if (!other) continue;
     Link moved = link;
     moved.setFrom(kept.id());
-    other->removeLink(removedId, link.type());
-    addLinkBetween(kept, *other, moved);
+    Signature* other = mutableSignature(to);
+    if (other) {
+      other->removeLink(removedId, link.type());
+      addLinkBetween(kept, *other, moved);
+      continue;
+    }
+    // The other end went to the LTM meanwhile (a loop closure of a location still in STM): its
+    // saved row links to the removed location, which will never be saved; the LTM's link moves
+    // too, or the kept location would lose the constraint and the LTM keep a dangling one.
+    kept.addLink(moved);
+    if (ltm_ && options_.incremental) {
+      ltm_->removeLink(to, removedId, link.type());
+      ltm_->saveLink(moved);
+    }
   }
   kept.setWeight(weight);
   // Words only the removed location had leave (if saved, the LTM still has them).

@@ -1,6 +1,8 @@
 // Transfer to and retrieval from the LTM (T-RO 2013, Algorithms 3 and 4).
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "MemoryTestPlaces.h"
 #include "common/TestData.h"
 #include "rtabmap_core/common/Error.h"
@@ -117,6 +119,62 @@ TEST(MemoryTransfer, ChangedWordsAreReusedOnRetrieval) {
   // Location 1's words were re-quantised to location 3's identical words, not duplicated.
   EXPECT_EQ(m.vocabulary().size(), 200u);
   EXPECT_EQ(m.vocabulary().word(firstWord), nullptr);
+}
+
+// Mem/RehearsalIdUpdatedToNewOne with Mem/STMSize 0: the previous location entered WM, and so
+// the LTM, the moment it was added. Rehearsal must not drop it from RAM behind the database's
+// back (the LTM would keep it, still linked, and a reload would bring back a branch the map no
+// longer has): the saved location keeps its id and the new view merges into it.
+TEST(MemoryTransfer, RehearsalKeepsAnAlreadySavedLocation) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 0;
+  o.rehearsalIdUpdatedToNewOne = true;
+  Memory m(o, &ltm.database);
+  m.addLocation(view(1));
+  m.addLocation(view(2));
+  m.joinLtmWriter();
+  ASSERT_TRUE(ltm.database.loadNode(2).has_value());  // saved on entering WM
+  const AddResult again = m.addLocation(view(2, 1));
+  ASSERT_TRUE(again.merged);
+  EXPECT_EQ(again.id, 2);
+  EXPECT_EQ(again.mergedWith, 3);
+  ASSERT_NE(m.signature(2), nullptr);
+  EXPECT_EQ(m.signature(2)->weight(), 1);
+  EXPECT_EQ(m.signature(3), nullptr);
+  m.saveAll();
+  EXPECT_EQ(ltm.database.nodeIds(), (std::vector<int>{1, 2}));
+  EXPECT_EQ(ltm.database.loadNode(2)->weight(), 1);
+  const std::multimap<int, Link> links1 = ltm.database.loadLinks(1);
+  ASSERT_EQ(links1.size(), 1u);
+  EXPECT_EQ(links1.begin()->first, 2);
+}
+
+// The location rehearsal removes may hold a loop closure to one that went to the LTM since:
+// the kept location takes the link over, in RAM and in the LTM, which must not keep a link to a
+// location it will never have.
+TEST(MemoryTransfer, RehearsalMovesALinkToTheLtm) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 2;
+  o.recentWmRatio = 0.f;
+  o.rehearsalIdUpdatedToNewOne = true;
+  Memory m(o, &ltm.database);
+  for (int p = 1; p <= 4; ++p) m.addLocation(view(p));
+  m.addLoopClosure(Link(4, 1, Link::kGlobalClosure, Transform::Identity()));
+  m.transfer({2, 3}, 0, 0, true);  // 1 leaves (4 is in STM)
+  ASSERT_FALSE(m.inRam(1));
+  const AddResult again = m.addLocation(view(4, 1));
+  ASSERT_TRUE(again.merged);
+  ASSERT_EQ(again.id, 5);  // 4 was not saved yet: the new id stays
+  EXPECT_TRUE(m.signature(5)->hasLink(1, Link::kGlobalClosure));
+  EXPECT_TRUE(m.signature(5)->hasLink(3, Link::kNeighbor));
+  m.saveAll();
+  const std::multimap<int, Link> links1 = ltm.database.loadLinks(1);
+  std::set<int> ends;
+  for (const auto& [to, link] : links1) ends.insert(to);
+  EXPECT_EQ(ends, (std::set<int>{2, 5}));
+  EXPECT_FALSE(ltm.database.loadNode(4).has_value());
 }
 
 // Retrieval puts words back by id or by their exact bytes: it searches the vocabulary's index
