@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <deque>
 #include <unordered_map>
+#include <vector>
 
 #include "rtabmap_core/optimizer/Graph.h"
 
@@ -39,10 +40,40 @@ std::set<int> breadthFirst(int root, const std::unordered_map<int, std::vector<i
 
 }  // namespace
 
+// Union-find over the links' ends: one pass over the links, no adjacency lists (the SLAM update
+// asks for the new node's component of the whole local map at every optimisation).
 std::set<int> connectedComponent(int root, const Links& links, const std::set<int>* allowed) {
   if (allowed && !allowed->count(root)) return {};
-  const auto adj = adjacency(links, [&](int id) { return !allowed || allowed->count(id) != 0; });
-  return breadthFirst(root, adj);
+  std::unordered_map<int, int> index;  // node id -> its entry in parent
+  index.reserve(links.size() + 1);
+  std::vector<int> parent, ids;
+  auto entry = [&](int id) {
+    const auto [it, inserted] = index.emplace(id, static_cast<int>(parent.size()));
+    if (inserted) {
+      parent.push_back(it->second);
+      ids.push_back(id);
+    }
+    return it->second;
+  };
+  auto find = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];  // path halving
+    return i;
+  };
+  entry(root);
+  for (const auto& [key, link] : links) {
+    (void)key;
+    if (link.from() == link.to()) continue;
+    if (allowed && (!allowed->count(link.from()) || !allowed->count(link.to()))) continue;
+    const int a = find(entry(link.from())), b = find(entry(link.to()));
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  std::vector<int> component;
+  const int r = find(0);
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (find(static_cast<int>(i)) == r) component.push_back(ids[i]);
+  }
+  std::sort(component.begin(), component.end());
+  return std::set<int>(component.begin(), component.end());  // sorted: linear
 }
 
 std::vector<std::set<int>> connectedComponents(const Poses& poses, const Links& links) {

@@ -68,7 +68,7 @@ std::multimap<int, Link> Rtabmap::Impl::ramLinks(const std::map<int, Transform>&
       const bool kept = to == id  ? link.type() == Link::kGravity
                         : to < 0 ? link.type() == Link::kLandmark
                                  : to > id && poses.count(to) && link.type() != Link::kLandmark;
-      if (kept) links.emplace(id, link);
+      if (kept) links.emplace_hint(links.end(), id, link);  // ids in increasing order
     }
   }
   return links;
@@ -100,22 +100,18 @@ std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<L
   const std::map<int, Transform> poses = ramPosesOfGroup();
   if (!poses.count(newId)) return newLinks;
   const std::multimap<int, Link> links = ramLinks(poses);
-  const std::set<int> component = graph::connectedComponent(newId, links);
-  std::map<int, Transform> input;
-  graph::Links inside;
-  for (int id : component) {
-    if (poses.count(id)) input.emplace(id, poses.at(id));
+  // The optimiser keeps the new node's connected component (nodes in WM linked to the chain
+  // only through the LTM stay where they are) and leaves the rest of the local map out.
+  // RGBD/OptimizeFromGraphEnd: the robot stays, the map moves; else the component's oldest node
+  // stays and map -> odom absorbs the correction.
+  int root = newId;
+  if (!options.optimizeFromGraphEnd) {
+    const std::set<int> component = graph::connectedComponent(newId, links);
+    root = *component.lower_bound(0);  // (landmarks, ids < 0, are no root)
   }
-  for (const auto& [from, link] : links) {
-    const bool landmark = link.type() == Link::kLandmark && component.count(link.to());
-    if (input.count(link.from()) && (input.count(link.to()) || landmark)) inside.emplace(from, link);
-  }
-  // RGBD/OptimizeFromGraphEnd: the robot stays, the map moves; else the oldest node stays and
-  // map -> odom absorbs the correction.
-  const int root = options.optimizeFromGraphEnd ? newId : input.begin()->first;
   OptimizerSummary result;
   const std::map<int, Transform> optimised =
-      optimizeGraph(incrementalOptions(input, newLinks), input, inside, &result, root);
+      optimizeGraph(incrementalOptions(poses, newLinks), poses, links, &result, root);
   if (!result.success) {
     RTABMAP_WARN("graph optimisation failed: " << result.why << "; the new links are kept, the poses not updated");
     return newLinks;
@@ -126,7 +122,7 @@ std::vector<Link> Rtabmap::Impl::optimizeLocalMap(int newId, const std::vector<L
   // Every link counts, odometry included: a wrong loop closure made stiff by a confident
   // registration is satisfied by the optimiser, and it is the odometry that bends.
   double worst = 0.0, worstMetres = 0.0;
-  for (const auto& [from, link] : inside) {
+  for (const auto& [from, link] : links) {
     if (link.from() == link.to() || !optimised.count(link.from()) || !optimised.count(link.to()) ||
         link.type() == Link::kVirtualClosure) {
       continue;  // (gravity: the optimiser's own residual, not a motion between two poses)

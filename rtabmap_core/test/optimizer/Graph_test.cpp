@@ -67,6 +67,16 @@ TEST(Graph, ConnectedComponents) {
   const std::set<int> allowed{1, 3};
   EXPECT_EQ(graph::connectedComponent(1, links, &allowed), (std::set<int>{1}));
 
+  // Two branches listed apart and joined last (through a landmark, id < 0), a cycle, and the
+  // other component beside them: every node of the root's component, none of the other's.
+  Links joined = chain({{20, 21}, {30, 31}, {21, 22}, {31, 32}, {22, 20}});
+  joined.emplace(32, Link(32, -1, Link::kLandmark, Transform(0, 0, 0)));
+  joined.emplace(22, Link(22, -1, Link::kLandmark, Transform(0, 0, 0)));
+  joined.emplace(40, Link(40, 41, Link::kNeighbor, Transform(0, 0, 0)));
+  EXPECT_EQ(graph::connectedComponent(30, joined), (std::set<int>{-1, 20, 21, 22, 30, 31, 32}));
+  EXPECT_EQ(graph::connectedComponent(41, joined), (std::set<int>{40, 41}));
+  EXPECT_EQ(graph::connectedComponent(99, joined), (std::set<int>{99}));  // in no link: itself
+
   Poses poses;
   for (int id : {1, 2, 3, 5, 10, 11}) poses.emplace(id, Transform(0, 0, 0));
   const auto components = graph::connectedComponents(poses, links);
