@@ -69,8 +69,11 @@ std::map<int, Transform> optimizeGraph(const OptimizerOptions& options,
   std::map<int, Transform> initial;
   switch (options.initialization) {
     case GraphInitialization::kInputPoses:
-      initial = graph::spanningTreeInitialization(root, rootPose, graph.relative, options.force3DoF,
-                                                  /*odometryFirst=*/true, &poses);
+      initial = graph::knownPosesInitialization(graph.nodes, poses, options.force3DoF);
+      if (initial.empty()) {
+        initial = graph::spanningTreeInitialization(root, rootPose, graph.relative, options.force3DoF,
+                                                    /*odometryFirst=*/true, &poses);
+      }
       break;
     case GraphInitialization::kSpanningTree:
       initial = graph::spanningTreeInitialization(root, rootPose, graph.relative, options.force3DoF);

@@ -40,6 +40,11 @@ Pose fromTransform(const Transform& transform, bool is2D) {
   return p;
 }
 
+Transform toTransform(const Pose& p, bool is2D) {
+  if (is2D) return Transform(p.t.x(), p.t.y(), p.yaw);
+  return Transform(p.t.x(), p.t.y(), p.t.z(), p.q.x(), p.q.y(), p.q.z(), p.q.w());
+}
+
 Pose compose(const Pose& a, const Pose& b, bool is2D) {
   Pose out;
   if (is2D) {
@@ -122,12 +127,20 @@ std::map<int, Transform> spanningTreeInitialization(int root, const Transform& r
   grow(false);
 
   std::map<int, Transform> poses;
-  for (const auto& [id, p] : placed) {
-    if (is2D) {
-      poses.emplace(id, Transform(p.t.x(), p.t.y(), p.yaw));
-    } else {
-      poses.emplace(id, Transform(p.t.x(), p.t.y(), p.t.z(), p.q.x(), p.q.y(), p.q.z(), p.q.w()));
-    }
+  for (const auto& [id, p] : placed) poses.emplace(id, toTransform(p, is2D));
+  return poses;
+}
+
+// The SLAM update initialises from the poses it has at every optimisation of the local map,
+// where building the tree's adjacency and walking it was a tenth of the optimisation.
+std::map<int, Transform> knownPosesInitialization(const std::set<int>& nodes,
+                                                  const std::map<int, Transform>& known, bool is2D) {
+  std::map<int, Transform> poses;
+  auto k = known.begin();
+  for (int id : nodes) {  // both sorted: one merge pass
+    while (k != known.end() && k->first < id) ++k;
+    if (k == known.end() || k->first != id || k->second.isNull()) return {};
+    poses.emplace_hint(poses.end(), id, toTransform(fromTransform(k->second, is2D), is2D));
   }
   return poses;
 }

@@ -1,6 +1,9 @@
 // Spanning-tree and chordal initialisation.
 #include <gtest/gtest.h>
 
+#include <iterator>
+#include <set>
+
 #include "SyntheticGraph.h"
 #include "rtabmap_core/optimizer/Chi2.h"
 #include "rtabmap_core/optimizer/Initialization.h"
@@ -97,6 +100,35 @@ TEST(Initialization, KnownPosesAreKeptAndTheRestComposed) {
   EXPECT_NEAR(poses.at(2).x(), 11, 1e-12);  // composed
   EXPECT_NEAR(poses.at(3).x(), 20, 1e-12);  // kept
   EXPECT_NEAR(poses.at(4).y(), 6, 1e-12);   // composed from the kept one
+}
+
+// Every node known (the SLAM update's case): the same poses as the tree, bit for bit, in 2D
+// (x, y, yaw: the input's z, roll and pitch are not the tree's) and 3D; empty when one is missing.
+TEST(Initialization, KnownPosesWithoutTheTreeAreTheTreesPoses) {
+  NoiseModel noise;
+  noise.sigmaXY = 0.05;
+  noise.sigmaAngle = 0.05;
+  for (bool is2D : {true, false}) {
+    const auto g = makeSquareLoops(2, 6, is2D, noise, 7, 1, 0.5);
+    std::map<int, Transform> known;
+    std::set<int> nodes;
+    for (const auto& [id, pose] : g.odometry) {
+      known.emplace(id, pose * Transform(0, 0, 0.1, 0.02, -0.03, 0));  // off the plane too
+      nodes.insert(id);
+    }
+    const int root = g.odometry.begin()->first;
+    const auto tree = graph::spanningTreeInitialization(root, Transform(), g.links, is2D, true, &known);
+    const auto direct = graph::knownPosesInitialization(nodes, known, is2D);
+    ASSERT_EQ(direct.size(), tree.size());
+    for (const auto& [id, pose] : tree) {
+      ASSERT_TRUE(direct.count(id)) << id;
+      EXPECT_EQ(direct.at(id).toMatrix4d(), pose.toMatrix4d()) << id << (is2D ? " 2D" : " 3D");
+    }
+    known.erase(std::next(known.begin(), 3));
+    EXPECT_TRUE(graph::knownPosesInitialization(nodes, known, is2D).empty());
+    known.emplace(std::next(g.odometry.begin(), 3)->first, Transform());  // null: not known either
+    EXPECT_TRUE(graph::knownPosesInitialization(nodes, known, is2D).empty());
+  }
 }
 
 TEST(Initialization, OnlyTheRootComponentAndBackwardLinks) {

@@ -8,6 +8,7 @@
 // of that component. With is2D, poses are x, y, yaw (Transform(x, y, theta)) and links are
 // taken as their 3DoF part.
 #include <map>
+#include <set>
 #include <string>
 
 #include "rtabmap_core/geometry/Transform.h"
@@ -26,6 +27,11 @@ std::map<int, Transform> spanningTreeInitialization(int root, const Transform& r
                                                     const std::multimap<int, Link>& links,
                                                     bool is2D, bool odometryFirst = false,
                                                     const std::map<int, Transform>* known = nullptr);
+// The spanning tree's result when every node of a connected graph is known: `nodes` at their
+// pose in `known` (x, y, yaw in 2D; a normalised quaternion in 3D), without walking the graph.
+// Empty if one of them has no non-null pose there (then the tree composes it).
+std::map<int, Transform> knownPosesInitialization(const std::set<int>& nodes,
+                                                  const std::map<int, Transform>& known, bool is2D);
 
 // Chordal relaxation (Carlone et al., ICRA 2015; Martinec and Pajdla for rotations): rotations
 // first, relaxed to 3x3 (2x2 in 2D) matrices so that R_j = R_i * R_ij is linear, solved by
