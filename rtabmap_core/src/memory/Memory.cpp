@@ -347,8 +347,9 @@ void Memory::rehearse(Signature& previous, Signature& fresh, AddResult& result) 
     // The other end went to the LTM meanwhile (a loop closure of a location still in STM): its
     // saved row links to the removed location, which will never be saved; the LTM's link moves
     // too, or the kept location would lose the constraint and the LTM keep a dangling one.
+    // (A temporary link, of a planned path, is never saved.)
     kept.addLink(moved);
-    if (ltm_ && options_.incremental) {
+    if (ltm_ && options_.incremental && link.type() != Link::kTemporary) {
       ltm_->removeLink(to, removedId, link.type());
       ltm_->saveLink(moved);
     }
