@@ -48,6 +48,7 @@ MemoryOptions MemoryOptions::fromParameters(const ParametersMap& p) {
   o.rehearsalWeightIgnoredWhileMoving = Parameters::getBool(p, Parameters::kMemRehearsalWeightIgnoredWhileMoving());
   o.useOdomGravity = Parameters::getBool(p, Parameters::kMemUseOdomGravity());
   o.reduceGraph = Parameters::getBool(p, Parameters::kMemReduceGraph());
+  o.rawDescriptorsKept = Parameters::getBool(p, Parameters::kMemRawDescriptorsKept());
   o.vocabulary = vocabulary::VocabularyOptions::fromParameters(p);
   std::string why;
   if (!o.IsValid(&why)) throw ParameterError(why);
@@ -228,12 +229,13 @@ AddResult Memory::addLocation(const LocationInput& rawInput) {
       rows.push_back(static_cast<int>(i));
     }
     std::multimap<int, int> dense;
-    cv::Mat desc(static_cast<int>(rows.size()), in.descriptors.cols, in.descriptors.type());
+    cv::Mat desc;
+    if (options_.rawDescriptorsKept) desc.create(static_cast<int>(rows.size()), in.descriptors.cols, in.descriptors.type());
     for (size_t k = 0; k < rows.size(); ++k) {
       dense.emplace(wordIds[rows[k]], static_cast<int>(k));
       kpts.push_back(in.keypoints[rows[k]]);
       if (!in.points3D.empty()) pts.push_back(in.points3D[rows[k]]);
-      in.descriptors.row(rows[k]).copyTo(desc.row(static_cast<int>(k)));
+      if (!desc.empty()) in.descriptors.row(rows[k]).copyTo(desc.row(static_cast<int>(k)));
     }
     fresh.setWords(dense, kpts, pts, desc);
   }

@@ -243,6 +243,41 @@ std::vector<cv::DMatch> matchByProjection(const std::vector<cv::Point2f>& projec
   return uniqueOnQuery(matches);
 }
 
+std::vector<cv::DMatch> matchByWordIds(const std::vector<int>& fromIds, const std::vector<int>& toIds,
+                                       const std::vector<cv::Point2f>& projected,
+                                       const std::vector<cv::KeyPoint>& toKeypoints, float radius) {
+  if (!projected.empty() && (projected.size() != fromIds.size() || toKeypoints.size() != toIds.size())) {
+    throw std::invalid_argument("matchByWordIds: one projection per reference id and one keypoint per new id expected");
+  }
+  // Index of the feature with each id, -1 once the id is seen a second time.
+  auto uniqueIndex = [](const std::vector<int>& ids) {
+    std::unordered_map<int, int> index;
+    for (size_t i = 0; i < ids.size(); ++i) {
+      auto [it, inserted] = index.emplace(ids[i], static_cast<int>(i));
+      if (!inserted) it->second = -1;
+    }
+    return index;
+  };
+  const std::unordered_map<int, int> to = uniqueIndex(toIds);
+  const std::unordered_map<int, int> from = uniqueIndex(fromIds);
+  std::vector<cv::DMatch> matches;
+  const float radius2 = radius * radius;
+  for (size_t i = 0; i < fromIds.size(); ++i) {
+    const auto f = from.find(fromIds[i]);
+    if (f->second < 0) continue;
+    const auto t = to.find(fromIds[i]);
+    if (t == to.end() || t->second < 0) continue;
+    if (!projected.empty()) {
+      const cv::Point2f& p = projected[i];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+      const cv::Point2f d = p - toKeypoints[static_cast<size_t>(t->second)].pt;
+      if (d.dot(d) > radius2) continue;
+    }
+    matches.emplace_back(static_cast<int>(i), t->second, 0.0f);
+  }
+  return matches;
+}
+
 std::vector<cv::Point2f> trackOpticalFlow(const cv::Mat& fromGrey, const cv::Mat& toGrey,
                                           const std::vector<cv::Point2f>& fromPoints,
                                           const std::vector<cv::Point2f>& initial,

@@ -135,16 +135,18 @@ FrameMatches trackByOpticalFlow(const VisualFrame& from, const VisualFrame& to, 
 FrameMatches matchByDescriptors(const VisualFrame& from, const VisualFrame& to, const Transform& guess,
                                    const RegistrationVisOptions& options) {
   FrameMatches c;
-  if (from.descriptors.empty() || to.descriptors.empty()) {
+  const bool guided = !guess.isNull() && options.correspondences.guessWinSize > 0 && !from.points3D.empty();
+  if ((from.descriptors.empty() || to.descriptors.empty()) && !from.ids.empty() && !to.ids.empty()) {
+    // Words of nodes without descriptors (Mem/RawDescriptorsKept false): paired by word id.
+    c.matches = matchByWordIds(from.ids, to.ids, guided ? projectReference(from, to, guess) : std::vector<cv::Point2f>(),
+                               to.keypoints, static_cast<float>(options.correspondences.guessWinSize));
+  } else if (from.descriptors.empty() || to.descriptors.empty()) {
     c.problem = "a frame has keypoints but no descriptors";
     return c;
-  }
-  if (from.descriptors.type() != to.descriptors.type() || from.descriptors.cols != to.descriptors.cols) {
+  } else if (from.descriptors.type() != to.descriptors.type() || from.descriptors.cols != to.descriptors.cols) {
     c.problem = "the two frames' descriptors differ in type or length (extracted with different Vis/FeatureType?)";
     return c;
-  }
-  const bool guided = !guess.isNull() && options.correspondences.guessWinSize > 0 && !from.points3D.empty();
-  if (guided) {
+  } else if (guided) {
     c.matches = matchByProjection(projectReference(from, to, guess), from.descriptors, to.keypoints, to.descriptors,
                                   static_cast<float>(options.correspondences.guessWinSize), options.correspondences);
   } else {
@@ -346,14 +348,22 @@ bool RegistrationVis::needsImages() const {
   return options_.correspondences.type == 1 || options_.estimationType == 0 || !options_.forwardEstOnly;
 }
 
-VisualFrame RegistrationVis::frameOf(Signature& node, std::string* problem) const {
+namespace {
+
+bool wordsWithoutDescriptors(const Signature& node) {
+  return !node.getWords().empty() && node.getWordsDescriptors().empty();
+}
+
+}  // namespace
+
+VisualFrame RegistrationVis::frameOf(Signature& node, bool wordsById, std::string* problem) const {
   SensorData& data = node.sensorData();
   // Several cameras: the image tells each camera's width when the models do not.
   const bool needImages =
       needsImages() || data.cameraModels().size() > 1 || data.stereoCameraModels().size() > 1;
   ImageFeatures features;
   std::vector<int> ids;
-  if (!node.getWords().empty() && !node.getWordsDescriptors().empty()) {
+  if (!node.getWords().empty() && (wordsById || !node.getWordsDescriptors().empty())) {
     features.keypoints = node.getWordsKpts();
     features.points3D = node.getWords3();
     features.descriptors = node.getWordsDescriptors();
@@ -391,7 +401,9 @@ VisualFrame RegistrationVis::frameOf(Signature& node, std::string* problem) cons
 Transform RegistrationVis::computeTransform(Signature& from, Signature& to, const Transform& guess,
                                             RegistrationInfo* info) const {
   std::string problem;
-  const VisualFrame a = frameOf(from, &problem);
+  const bool wordsById = !from.getWords().empty() && !to.getWords().empty() &&
+                         (wordsWithoutDescriptors(from) || wordsWithoutDescriptors(to));
+  const VisualFrame a = frameOf(from, wordsById, &problem);
   if (!problem.empty()) {
     if (info) {
       *info = RegistrationInfo();
@@ -399,7 +411,7 @@ Transform RegistrationVis::computeTransform(Signature& from, Signature& to, cons
     }
     return Transform();
   }
-  const VisualFrame b = frameOf(to, &problem);
+  const VisualFrame b = frameOf(to, wordsById, &problem);
   if (!problem.empty()) {
     if (info) {
       *info = RegistrationInfo();

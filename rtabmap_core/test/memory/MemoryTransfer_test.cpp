@@ -101,6 +101,48 @@ TEST(MemoryTransfer, RetrievalBringsBackNeighboursInTimeFirstWithTheirWords) {
   EXPECT_EQ(back, (std::vector<int>{3, 7}));
 }
 
+// Mem/RawDescriptorsKept false: locations hold word ids, keypoints and 3D, not descriptors, in
+// RAM and in the LTM; the vocabulary keeps each word's own descriptor, so words leave it and come
+// back on retrieval as with descriptors, and a revisit is still recognised.
+TEST(MemoryTransfer, WithoutRawDescriptorsTheWordsStillLeaveAndComeBack) {
+  WithLtm ltm;
+  MemoryOptions o;
+  o.stmSize = 1;
+  o.recentWmRatio = 0.f;
+  o.rawDescriptorsKept = false;
+  Memory m(o, &ltm.database);
+  for (int p = 1; p <= 6; ++p) m.addLocation(view(p));
+  const Signature* kept = m.signature(2);
+  ASSERT_EQ(kept->getWords().size(), 100u);
+  EXPECT_EQ(kept->getWordsKpts().size(), 100u);
+  EXPECT_TRUE(kept->getWordsDescriptors().empty());
+  EXPECT_EQ(m.vocabulary().word(kept->getWords().begin()->first)->descriptor.cols, 64);
+  const std::multimap<int, int> words2 = kept->getWords();
+  m.transfer({3}, 100000, 0, false);
+  ASSERT_FALSE(m.inRam(2));
+  EXPECT_EQ(m.vocabulary().size(), 200u);  // words of 3 and 6
+  const std::optional<Signature> saved = ltm.database.loadNode(2);
+  ASSERT_TRUE(saved.has_value());
+  EXPECT_EQ(saved->getWords(), words2);
+  EXPECT_TRUE(saved->getWordsDescriptors().empty());
+  EXPECT_EQ(m.retrieve(3), (std::vector<int>{2, 4}));
+  EXPECT_EQ(m.signature(2)->getWords(), words2);
+  EXPECT_EQ(m.vocabulary().size(), 400u);
+  const AddResult r = m.addLocation(view(2, 1));
+  const std::map<int, float> l = m.computeLikelihood(r.id);
+  EXPECT_GT(l.at(2), 0.f);
+  for (const auto& [id, score] : l) {
+    if (id != 2) {
+      EXPECT_FLOAT_EQ(score, 0.f) << id;
+    }
+  }
+  // The default keeps one descriptor row per word.
+  WithLtm other;
+  Memory withDescriptors(MemoryOptions(), &other.database);
+  const int id = withDescriptors.addLocation(view(1)).id;
+  EXPECT_EQ(withDescriptors.signature(id)->getWordsDescriptors().rows, 100);
+}
+
 TEST(MemoryTransfer, ChangedWordsAreReusedOnRetrieval) {
   WithLtm ltm;
   MemoryOptions o;

@@ -141,8 +141,8 @@ TEST(ParameterRegistry, AParameterOfTheOriginalNotImplementedHereAcceptsOnlyItsD
   EXPECT_NE(why.find("RGBD/LocalBundleOnLoopClosure"), std::string::npos) << why;
   EXPECT_NE(why.find("not implemented here (no bundle adjustment of loop-closure transforms)"), std::string::npos) << why;
   EXPECT_NE(why.find("default \"false\""), std::string::npos) << why;
-  EXPECT_TRUE(Parameters::isValid("Mem/RawDescriptorsKept", "true"));
-  EXPECT_FALSE(Parameters::isValid("Mem/RawDescriptorsKept", "false"));
+  EXPECT_TRUE(Parameters::isValid("Rtabmap/ImageBufferSize", "1"));
+  EXPECT_FALSE(Parameters::isValid("Rtabmap/ImageBufferSize", "0"));
   EXPECT_TRUE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.750"));
   EXPECT_FALSE(Parameters::isValid("OdomF2M/ValidDepthRatio", "0.5"));
   // Its default is what happens here (merged nodes are never saved), not the original's true:

@@ -4,6 +4,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <limits>
 #include <random>
 
 #include "odometry/SyntheticRoom.h"
@@ -94,6 +95,34 @@ TEST(Correspondences, GuidedMatchingSearchesOnlyTheWindow) {
     EXPECT_EQ(correct, static_cast<int>(m.size()));
     EXPECT_EQ(m.size(), 89u) << "guessMatchToProjection " << toProjection;
   }
+}
+
+TEST(Correspondences, WordIdsPairOnlyWordsSeenOnceInEachFrame) {
+  // from: 3 twice (which keypoint?), 4 not in `to`; to: 1 twice.
+  const std::vector<int> fromIds{1, 2, 3, 3, 4, 5, 6};
+  const std::vector<int> toIds{5, 3, 2, 9, 1, 1, 6};
+  std::vector<cv::DMatch> m = matchByWordIds(fromIds, toIds, {}, {}, 0.0f);
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_EQ(m[0].queryIdx, 1);  // word 2
+  EXPECT_EQ(m[0].trainIdx, 2);
+  EXPECT_EQ(m[1].queryIdx, 5);  // word 5
+  EXPECT_EQ(m[1].trainIdx, 0);
+  EXPECT_EQ(m[2].queryIdx, 6);  // word 6
+  EXPECT_EQ(m[2].trainIdx, 6);
+  // With projections: word 2 lands 30 px from its keypoint, word 5 within the radius, word 6
+  // does not project.
+  std::vector<cv::KeyPoint> keypoints;
+  for (int j = 0; j < 7; ++j) keypoints.emplace_back(cv::Point2f(10.0f * j, 5.0f), 7.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<cv::Point2f> projected(7, cv::Point2f(0.0f, 0.0f));
+  projected[1] = keypoints[2].pt + cv::Point2f(30.0f, 0.0f);
+  projected[5] = keypoints[0].pt + cv::Point2f(3.0f, 4.0f);
+  projected[6] = cv::Point2f(nan, nan);
+  m = matchByWordIds(fromIds, toIds, projected, keypoints, 20.0f);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].queryIdx, 5);
+  EXPECT_EQ(m[0].trainIdx, 0);
+  EXPECT_THROW(matchByWordIds(fromIds, toIds, projected, {}, 20.0f), std::invalid_argument);
 }
 
 TEST(Correspondences, OpticalFlowFollowsAShift) {

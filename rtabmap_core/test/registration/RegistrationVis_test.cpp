@@ -3,8 +3,12 @@
 // on nodes (Signature) and on prepared frames; and its rejections.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+
 #include "odometry/SyntheticRoom.h"
 #include "rtabmap_core/common/Error.h"
+#include "rtabmap_core/memory/Memory.h"
 #include "rtabmap_core/memory/Signature.h"
 #include "rtabmap_core/registration/RegistrationVis.h"
 
@@ -147,6 +151,55 @@ TEST(RegistrationVis, WordsOfANodeAreUsedWithTheirIds) {
   RegistrationInfo info;
   expectNear(reg.computeTransform(a, b, Transform(), &info), kMotion, kMetres, kRadians);
   for (int id : info.inliersIDs) EXPECT_GE(id, 1000);
+}
+
+// Mem/RawDescriptorsKept false: the memory keeps the words of a location without their
+// descriptors, and two such nodes are registered by pairing their words by id.
+TEST(RegistrationVis, WordsWithoutDescriptorsArePairedById) {
+  const Pair pair = renderPair();
+  RegistrationVis reg;
+  memory::MemoryOptions o;
+  o.rawDescriptorsKept = false;
+  o.rehearsalSimilarity = 1.0f;  // two locations, not one merged
+  memory::Memory m(o);
+  std::vector<int> ids;
+  for (const SensorData* data : {&pair.from, &pair.to}) {
+    const ImageFeatures f = reg.detector().extract(*data);
+    memory::LocationInput in;
+    in.keypoints = f.keypoints;
+    in.descriptors = f.descriptors;
+    in.points3D = f.points3D;
+    in.data = *data;
+    ids.push_back(m.addLocation(in).id);
+  }
+  Signature a = *m.signature(ids[0]), b = *m.signature(ids[1]);
+  for (const Signature* s : {&a, &b}) {
+    ASSERT_GT(s->getWords().size(), 100u);
+    EXPECT_TRUE(s->getWordsDescriptors().empty());
+  }
+  // Words in both nodes, once in each: the most pairs there can be.
+  std::map<int, int> count;
+  for (const Signature* s : {&a, &b}) {
+    for (const auto& [word, index] : s->getWords()) count[word] += s->getWords().count(word) == 1 ? 1 : 100;
+  }
+  const int pairable = static_cast<int>(std::count_if(count.begin(), count.end(), [](const auto& c) { return c.second == 2; }));
+  RegistrationInfo info;
+  expectNear(reg.computeTransform(a, b, Transform(), &info), kMotion, kMetres, kRadians);
+  EXPECT_EQ(info.matches, pairable);
+  EXPECT_GE(info.inliers, 50);
+  for (int id : info.inliersIDs) EXPECT_EQ(count[id], 2) << "word " << id;
+  EXPECT_TRUE(a.sensorData().keypoints().empty()) << "nothing extracted again";
+  // A guess limits the pairs to the Vis/CorGuessWinSize window around each projection: the
+  // true motion keeps nearly all, one 0.3 m and 0.2 rad off very few.
+  RegistrationInfo guided, misguided;
+  expectNear(reg.computeTransform(a, b, kMotion, &guided), kMotion, kMetres, kRadians);
+  EXPECT_GE(guided.matches, info.inliers);
+  reg.computeTransform(a, b, kMotion * Transform(0.3, 0, 0, 0, 0, 0.2), &misguided);
+  EXPECT_LT(misguided.matches, guided.matches / 4);
+  // With a node that has no words, descriptors are matched: extracted again from the images.
+  Signature c(pair.to);
+  expectNear(reg.computeTransform(a, c, Transform(), &info), kMotion, kMetres, kRadians);
+  EXPECT_FALSE(a.sensorData().keypoints().empty());
 }
 
 TEST(RegistrationVis, RejectionsSayWhy) {

@@ -213,6 +213,33 @@ TEST(SimSlam, WithoutImagesTheSameMapComesFromASmallerDatabase) {
   EXPECT_GT(checked, 100) << "nodes with words";
 }
 
+// Mem/RawDescriptorsKept false: nodes keep their words without descriptors (in RAM and in the
+// database), and loop closures are registered by pairing the words by id.
+TEST(SimSlam, LoopClosesFromWordIdsWithoutDescriptors) {
+  REQUIRE_SIM(folder, "loop");
+  test::TempDir dir("rtabmap_slam_no_descriptors");
+  ParametersMap p = test::simSlamParameters();
+  p["Mem/RawDescriptorsKept"] = "false";
+  SimSlamRun run;
+  test::runSimSlam(folder, p, dir.file("rtabmap.db"), run);
+  RecordProperty("loop_closures", run.summary.loopClosures);
+  RecordProperty("db_bytes", std::to_string(std::filesystem::file_size(dir.file("rtabmap.db"))));
+  EXPECT_GE(run.summary.loopClosures, 5);
+  EXPECT_LT(test::worstLinkError(run.links, run.groundTruth, {Link::kGlobalClosure, Link::kLocalSpaceClosure}), 0.10);
+  EXPECT_LT(test::nodeAte(run.optimized, run.groundTruth), 0.5 * test::nodeAte(run.odometry, run.groundTruth));
+  db::DatabaseOptions readOnly;
+  readOnly.readOnly = true;
+  db::Database db(dir.file("rtabmap.db"), readOnly);
+  int withWords = 0;
+  for (int id : db.nodeIds()) {
+    const std::optional<Signature> node = db.loadNode(id);
+    ASSERT_TRUE(node.has_value());
+    EXPECT_TRUE(node->getWordsDescriptors().empty()) << "node " << id;
+    withWords += node->getWords().empty() ? 0 : 1;
+  }
+  EXPECT_GT(withWords, 100);
+}
+
 TEST(SimSlam, ReverseLapClosesWithLaserProximity) {
   REQUIRE_SIM(folder, "reverse");
   test::TempDir dir("rtabmap_slam_reverse");

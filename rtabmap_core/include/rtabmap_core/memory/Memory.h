@@ -72,6 +72,9 @@ struct MemoryOptions {
   // merged into it (MemoryReduceGraph.cpp), so revisiting a place does not grow the graph.
   // Mapping only (Mem/IncrementalMemory).
   bool reduceGraph = false;
+  // Mem/RawDescriptorsKept: false = a location keeps its words' keypoints and 3D points, not
+  // their descriptors (the vocabulary has each word's own); registration then pairs by word id.
+  bool rawDescriptorsKept = true;
   vocabulary::VocabularyOptions vocabulary;
 
   static MemoryOptions fromParameters(const ParametersMap& parameters);

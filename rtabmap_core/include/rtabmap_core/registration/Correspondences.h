@@ -65,6 +65,16 @@ std::vector<cv::DMatch> matchByProjection(const std::vector<cv::Point2f>& projec
                                           const std::vector<cv::KeyPoint>& toKeypoints, const cv::Mat& toDescriptors,
                                           float radius, const CorrespondenceOptions& options);
 
+// Matching by visual word (the bag-of-words pairing of the original for nodes without
+// descriptors, Mem/RawDescriptorsKept false): reference feature i and new feature j match when
+// they carry the same word id and that id appears once in each frame (a word seen twice in an
+// image does not say which keypoint is which). `projected` as for matchByProjection, or empty:
+// when given, a pair is kept only if reference i projects within `radius` pixels of new keypoint
+// j. distance is 0. Ids must have one entry per feature (toKeypoints too, when projecting).
+std::vector<cv::DMatch> matchByWordIds(const std::vector<int>& fromIds, const std::vector<int>& toIds,
+                                       const std::vector<cv::Point2f>& projected,
+                                       const std::vector<cv::KeyPoint>& toKeypoints, float radius);
+
 // Pyramidal Lucas-Kanade tracking of `fromPoints` from one 8-bit grey image to another of the
 // same size. `initial` (same size as fromPoints, or empty) seeds the search, e.g. with the
 // projection of each point under a motion guess. Returns tracked positions; status[i] is 0

@@ -81,7 +81,10 @@ struct VisualFrame {
   // pair: lets optical flow, which moves keypoints, get 3D for 3D->3D estimation.
   std::function<std::vector<cv::Point3f>(const std::vector<cv::KeyPoint>&)> points3DAt;
 
-  size_t size() const { return static_cast<size_t>(descriptors.rows > 0 ? descriptors.rows : static_cast<int>(points3D.size())); }
+  size_t size() const {
+    if (descriptors.rows > 0) return static_cast<size_t>(descriptors.rows);
+    return !points3D.empty() ? points3D.size() : ids.size();  // words paired by id: maybe no 3D
+  }
   bool isMap() const { return keypoints.empty(); }
   bool severalCameras() const { return models.size() > 1; }
   // Width of one camera's sub-image (0 when unknown), and the camera of an image column.
@@ -130,8 +133,11 @@ class RegistrationVis {
   // Registration of two nodes. A node's features are its words (keypoints, 3D, descriptors)
   // if it has some, else the features of its sensor data, else they are extracted now from its
   // images (uncompressing them if needed) and stored in its sensor data (setFeatures), so the
-  // next registration of that node reuses them. `guess` (from -> to, null = none) guides the
-  // matching. Never throws on bad sensor data: the reason is in info->rejectedMsg.
+  // next registration of that node reuses them. When both nodes have words and one of them
+  // kept no descriptors (Mem/RawDescriptorsKept false), the words are paired by id
+  // (matchByWordIds); a node with such words registered with a node without words is matched
+  // by descriptors extracted again from its images. `guess` (from -> to, null = none) guides
+  // the matching. Never throws on bad sensor data: the reason is in info->rejectedMsg.
   Transform computeTransform(Signature& from, Signature& to, const Transform& guess = Transform(),
                              RegistrationInfo* info = nullptr) const;
 
@@ -146,7 +152,8 @@ class RegistrationVis {
   Transform estimate(const VisualFrame& from, const VisualFrame& to, const Transform& guess, RegistrationInfo& info,
                      VisualCorrespondences* details) const;
   bool tracksByOpticalFlow(const VisualFrame& from, const VisualFrame& to) const;
-  VisualFrame frameOf(Signature& node, std::string* problem) const;
+  // wordsById: the node's words as they are, descriptors or not (both nodes are paired by id).
+  VisualFrame frameOf(Signature& node, bool wordsById, std::string* problem) const;
 
   RegistrationVisOptions options_;
   std::unique_ptr<FeatureDetector> detector_;
