@@ -22,10 +22,12 @@ JOBS ?= 2
 export PATH := /usr/bin:/bin:$(PATH)
 export ROS_HOME := $(BUILD)/ros_home
 export ROS_LOG_DIR := $(BUILD)/ros_home/log
-CCACHE := $(shell command -v ccache 2>/dev/null)
+# Looked up when the configure recipe runs (recursive `=`), after deps has installed ccache on a
+# fresh machine; `:=` looked before, so a first build there ran without it and left it empty.
+CCACHE = $(shell command -v ccache 2>/dev/null)
 # Paths relative to the clone in ccache's keys: every clone of the repo shares one cache.
 export CCACHE_BASEDIR := $(ROOT)
-CMAKE_ARGS := -DCMAKE_BUILD_TYPE=Release \
+CMAKE_ARGS = -DCMAKE_BUILD_TYPE=Release \
   -DCATKIN_DEVEL_PREFIX=$(WS)/devel -DCMAKE_INSTALL_PREFIX=$(WS)/install \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \
   $(if $(CCACHE),-DCMAKE_CXX_COMPILER_LAUNCHER=$(CCACHE) -DCMAKE_C_COMPILER_LAUNCHER=$(CCACHE))
