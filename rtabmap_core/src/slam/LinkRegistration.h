@@ -38,6 +38,9 @@ class LinkRegistration {
   float icpReach() const;
   // Icp/VoxelSize (0 without ICP).
   float icpVoxelSize() const;
+  // The visual registration of Reg/Strategy 0 (null with ICP in the strategy), and Reg/RepeatOnce.
+  const RegistrationVis* visualOnly() const { return visual_.get(); }
+  bool repeatOnce() const { return repeatOnce_; }
 
   // Pose of `to`'s base in `from`'s base (to = from * T), null with info->rejectedMsg on
   // failure. `guess` null = none (ICP alone then refuses: it only refines a guess; a visual

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "LocalBundle.h"
 #include "OdometryPrior.h"
 #include "ProximityByTime.h"
 #include "RtabmapImpl.h"
@@ -357,7 +358,17 @@ std::optional<Link> Rtabmap::Impl::verifyLoopClosure(int newId, int hypothesisId
     }
     t = registration->compute(a, b, guess, &info);
   } else {
-    t = registration->compute(*current, *hypothesis, guess, &info);
+    // RGBD/LocalBundleOnLoopClosure: against the hypothesis and its neighbours when it can (a
+    // visual-only strategy, a map around the hypothesis), else the two nodes as usual.
+    const LocalFeatureMap map = options.localBundleOnLoopClosure && registration->visualOnly()
+                                    ? localFeatureMap(memory, hypothesisId)
+                                    : LocalFeatureMap{0, {}, {}, {}, "not asked"};
+    if (map.problem.empty()) {
+      t = registerToLocalMap(map, *current, *registration->visualOnly(), registration->repeatOnce(), guess, &info);
+    } else {
+      if (options.localBundleOnLoopClosure) RTABMAP_DEBUG("no local bundle for " << hypothesisId << ": " << map.problem);
+      t = registration->compute(*current, *hypothesis, guess, &info);
+    }
   }
   stats.addStatistic(Statistics::kLoopVisual_matches, static_cast<float>(info.matches));
   stats.addStatistic(Statistics::kLoopVisual_inliers, static_cast<float>(info.inliers));

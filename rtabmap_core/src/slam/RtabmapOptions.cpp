@@ -30,6 +30,7 @@ RtabmapOptions RtabmapOptions::fromParameters(const ParametersMap& p) {
   o.imagesAlreadyRectified = P::getBool(p, P::kRtabmapImagesAlreadyRectified());
   o.computeRmse = P::getBool(p, P::kRtabmapComputeRMSE());
   o.loopClosureReextractFeatures = P::getBool(p, P::kRGBDLoopClosureReextractFeatures());
+  o.localBundleOnLoopClosure = P::getBool(p, P::kRGBDLocalBundleOnLoopClosure());
   o.publishStats = P::getBool(p, P::kRtabmapPublishStats());
   o.publishPdf = P::getBool(p, P::kRtabmapPublishPdf());
   o.publishLikelihood = P::getBool(p, P::kRtabmapPublishLikelihood());

@@ -135,11 +135,11 @@ TEST(ParameterRegistry, OnlyImplementedBackEndsAreAccepted) {
 
 TEST(ParameterRegistry, AParameterOfTheOriginalNotImplementedHereAcceptsOnlyItsDefault) {
   std::string why;
-  EXPECT_TRUE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "false"));
-  EXPECT_TRUE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "0"));
-  EXPECT_FALSE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "true", &why));
-  EXPECT_NE(why.find("RGBD/LocalBundleOnLoopClosure"), std::string::npos) << why;
-  EXPECT_NE(why.find("not implemented here (no bundle adjustment of loop-closure transforms)"), std::string::npos) << why;
+  EXPECT_TRUE(Parameters::isValid("Mem/LocalizationDataSaved", "false"));
+  EXPECT_TRUE(Parameters::isValid("Mem/LocalizationDataSaved", "0"));
+  EXPECT_FALSE(Parameters::isValid("Mem/LocalizationDataSaved", "true", &why));
+  EXPECT_NE(why.find("Mem/LocalizationDataSaved"), std::string::npos) << why;
+  EXPECT_NE(why.find("not implemented here (localization never writes to the database)"), std::string::npos) << why;
   EXPECT_NE(why.find("default \"false\""), std::string::npos) << why;
   EXPECT_TRUE(Parameters::isValid("Rtabmap/ImageBufferSize", "1"));
   EXPECT_FALSE(Parameters::isValid("Rtabmap/ImageBufferSize", "0"));
@@ -150,9 +150,9 @@ TEST(ParameterRegistry, AParameterOfTheOriginalNotImplementedHereAcceptsOnlyItsD
   EXPECT_TRUE(Parameters::isValid("Mem/NotLinkedNodesKept", "false"));
   EXPECT_FALSE(Parameters::isValid("Mem/NotLinkedNodesKept", "true", &why));
   EXPECT_NE(why.find("never saved"), std::string::npos) << why;
-  EXPECT_FALSE(Parameters::isValid("RGBD/LocalBundleOnLoopClosure", "maybe", &why));
+  EXPECT_FALSE(Parameters::isValid("Mem/LocalizationDataSaved", "maybe", &why));
   EXPECT_NE(why.find("not a bool"), std::string::npos) << why;
-  EXPECT_EQ(Parameters::info("RGBD/LocalBundleOnLoopClosure").expectation(), "its default only (not implemented here)");
+  EXPECT_EQ(Parameters::info("Mem/LocalizationDataSaved").expectation(), "its default only (not implemented here)");
 }
 
 // Every declared parameter is read by the code (core, tools, ROS layer), declared not

@@ -149,4 +149,20 @@ double worstLinkError(const std::multimap<int, Link>& links, const std::map<int,
   return worst;
 }
 
+double meanLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
+                     const std::set<Link::Type>& types, int* count) {
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& [from, link] : links) {
+    if (!types.count(link.type())) continue;
+    auto a = groundTruth.find(link.from());
+    auto b = groundTruth.find(link.to());
+    if (a == groundTruth.end() || b == groundTruth.end()) continue;
+    sum += ((a->second.inverse() * b->second).inverse() * link.transform()).getNorm();
+    ++n;
+  }
+  if (count) *count = n;
+  return n > 0 ? sum / n : 0.0;
+}
+
 }  // namespace rtabmap::test

@@ -51,5 +51,8 @@ double nodeAte(const std::map<int, Transform>& poses, const std::map<int, Transf
 // Largest error (m) of the links of these types against the ground truth of their ends.
 double worstLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
                       const std::set<Link::Type>& types, int* count = nullptr, std::string* which = nullptr);
+// Mean error (m) of the links of these types against the ground truth of their ends (0: none).
+double meanLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
+                     const std::set<Link::Type>& types, int* count = nullptr);
 
 }  // namespace rtabmap::test

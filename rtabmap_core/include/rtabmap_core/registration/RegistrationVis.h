@@ -147,13 +147,16 @@ class RegistrationVis {
   Transform computeTransform(const VisualFrame& from, const VisualFrame& to, const Transform& guess,
                              RegistrationInfo* info = nullptr, VisualCorrespondences* details = nullptr) const;
 
+  // The frame registration makes of a node (its words, else its sensor data's features, else
+  // features extracted now and stored in its sensor data), "" in *problem, or why it cannot.
+  // wordsById: the node's words as they are, descriptors or not (both nodes are paired by id).
+  VisualFrame frameOf(Signature& node, bool wordsById, std::string* problem) const;
+
  private:
   // One pass: correspondences, motion estimation, acceptance.
   Transform estimate(const VisualFrame& from, const VisualFrame& to, const Transform& guess, RegistrationInfo& info,
                      VisualCorrespondences* details) const;
   bool tracksByOpticalFlow(const VisualFrame& from, const VisualFrame& to) const;
-  // wordsById: the node's words as they are, descriptors or not (both nodes are paired by id).
-  VisualFrame frameOf(Signature& node, bool wordsById, std::string* problem) const;
 
   RegistrationVisOptions options_;
   std::unique_ptr<FeatureDetector> detector_;

@@ -31,6 +31,7 @@ struct RtabmapOptions {
   bool imagesAlreadyRectified = true;     // Rtabmap/ImagesAlreadyRectified
   bool computeRmse = true;                // Rtabmap/ComputeRMSE
   bool loopClosureReextractFeatures = false;  // RGBD/LoopClosureReextractFeatures
+  bool localBundleOnLoopClosure = false;      // RGBD/LocalBundleOnLoopClosure
   bool publishStats = true;               // Rtabmap/PublishStats
   bool publishPdf = true;                 // Rtabmap/PublishPdf
   bool publishLikelihood = true;          // Rtabmap/PublishLikelihood
