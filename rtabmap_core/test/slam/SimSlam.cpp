@@ -127,9 +127,12 @@ double nodeAte(const std::map<int, Transform>& poses, const std::map<int, Transf
   return computeAte(gt, est, o).translation.rmse;
 }
 
-double worstLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
-                      const std::set<Link::Type>& types, int* count, std::string* which) {
-  double worst = 0.0;
+namespace {
+// Calls visit(link, truth, error) for each link of `types` whose two ends have
+// ground truth; error is the norm of truth^-1 * link. Returns how many it visited.
+template <typename Visit>
+int forEachLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
+                     const std::set<Link::Type>& types, Visit visit) {
   int n = 0;
   for (const auto& [from, link] : links) {
     if (!types.count(link.type())) continue;
@@ -137,14 +140,23 @@ double worstLinkError(const std::multimap<int, Link>& links, const std::map<int,
     auto b = groundTruth.find(link.to());
     if (a == groundTruth.end() || b == groundTruth.end()) continue;
     const Transform truth = a->second.inverse() * b->second;
-    const double e = (truth.inverse() * link.transform()).getNorm();
+    visit(link, truth, (truth.inverse() * link.transform()).getNorm());
+    ++n;
+  }
+  return n;
+}
+}  // namespace
+
+double worstLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
+                      const std::set<Link::Type>& types, int* count, std::string* which) {
+  double worst = 0.0;
+  const int n = forEachLinkError(links, groundTruth, types, [&](const Link& link, const Transform& truth, double e) {
     if (e > worst && which) {
       *which = link.typeName() + " " + std::to_string(link.from()) + "->" + std::to_string(link.to()) + ": " +
                link.transform().prettyPrint() + ", truth " + truth.prettyPrint();
     }
     worst = std::max(worst, e);
-    ++n;
-  }
+  });
   if (count) *count = n;
   return worst;
 }
@@ -152,15 +164,7 @@ double worstLinkError(const std::multimap<int, Link>& links, const std::map<int,
 double meanLinkError(const std::multimap<int, Link>& links, const std::map<int, Transform>& groundTruth,
                      const std::set<Link::Type>& types, int* count) {
   double sum = 0.0;
-  int n = 0;
-  for (const auto& [from, link] : links) {
-    if (!types.count(link.type())) continue;
-    auto a = groundTruth.find(link.from());
-    auto b = groundTruth.find(link.to());
-    if (a == groundTruth.end() || b == groundTruth.end()) continue;
-    sum += ((a->second.inverse() * b->second).inverse() * link.transform()).getNorm();
-    ++n;
-  }
+  const int n = forEachLinkError(links, groundTruth, types, [&](const Link&, const Transform&, double e) { sum += e; });
   if (count) *count = n;
   return n > 0 ? sum / n : 0.0;
 }
