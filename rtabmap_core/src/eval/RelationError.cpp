@@ -57,6 +57,7 @@ RelationResult computeRelationError(const Trajectory& estimate, const std::vecto
     const Transform delta = sorted.poses[static_cast<size_t>(i)].pose.inverse() *
                             sorted.poses[static_cast<size_t>(j)].pose;
     const Transform error = rel.pose.inverse() * delta;
+    r.usedRelations.push_back(k);
     r.translationErrors.push_back(error.getNorm());
     r.rotationErrors.push_back(error.getAngle() * 180.0 / M_PI);
     if (options.localSpan > 0.0) {
@@ -93,6 +94,15 @@ RelationResult computeRelationError(const Trajectory& estimate, const std::vecto
   r.loopTranslation = computeErrorStats(loopT);
   r.loopRotation = computeErrorStats(loopR);
   return r;
+}
+
+std::vector<size_t> worstRelations(const RelationResult& result, size_t n) {
+  std::vector<size_t> order(result.translationErrors.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  const auto larger = [&](size_t a, size_t b) { return result.translationErrors[a] > result.translationErrors[b]; };
+  std::stable_sort(order.begin(), order.end(), larger);
+  if (order.size() > n) order.resize(n);
+  return order;
 }
 
 RelationConsistency relationConsistency(const std::vector<Relation>& relations, double maxTimeDifference) {

@@ -158,3 +158,30 @@ TEST(RelationError, MalformedRelationsNameFileAndLine) {
   writeText(dir.file("empty.relations"), "# none\n");
   EXPECT_THROW(rtabmap::readRelations(dir.file("empty.relations")), FormatError);
 }
+
+TEST(RelationError, WorstRelationsLargestFirstAndIndexTheInput) {
+  // Relations 0 (0.25 m off), 1 (skipped: no pose at 9), 2 (exact), 3 (0.5 m off), 4 (0.25 m
+  // off; binary fractions, so the two ties are exact).
+  Trajectory t;
+  t.add(1.0, Transform(0, 0, 0));
+  t.add(2.0, Transform(1, 0, 0));
+  const auto rel = [](double t1, double t2, double x) {
+    Relation r;
+    r.stamp1 = t1;
+    r.stamp2 = t2;
+    r.pose = Transform(x, 0, 0);
+    return r;
+  };
+  const std::vector<Relation> relations = {rel(1, 2, 1.25), rel(1, 9, 1), rel(1, 2, 1), rel(1, 2, 0.5),
+                                           rel(1, 2, 0.75)};
+  const rtabmap::RelationResult r = rtabmap::computeRelationError(t, relations);
+  ASSERT_EQ(r.usedRelations, (std::vector<size_t>{0, 2, 3, 4}));
+  const std::vector<size_t> worst = rtabmap::worstRelations(r, 3);
+  // Result indices: 0.5 m (input 3), then the two 0.25 m ones in input order (0, then 4).
+  ASSERT_EQ(worst, (std::vector<size_t>{2, 0, 3}));
+  EXPECT_NEAR(r.translationErrors[worst[0]], 0.5, 1e-12);
+  EXPECT_EQ(r.usedRelations[worst[0]], 3u);
+  EXPECT_EQ(r.usedRelations[worst[2]], 4u);
+  EXPECT_EQ(rtabmap::worstRelations(r, 10).size(), 4u);  // never more than the used ones
+  EXPECT_TRUE(rtabmap::worstRelations(r, 0).empty());
+}

@@ -241,6 +241,10 @@ int relations(int argc, char** argv) {
                 "Relations at most this long in time are also scored apart as local (odometry, neighbour "
                 "links), the longer ones as loop (revisits). 0 = no split.",
                 "5");
+  cli.addOption("worst", "N",
+                "Also list the N relations with the largest translational error (file line, stamps, "
+                "span, errors): where a mean comes from, e.g. one missed revisit.",
+                "0");
   cli.addNote("Example: rtabmap-eval trajectory --dataset carmen --input data/radish/aces.clf.bz2 "
               "--output odom.txt && rtabmap-eval relations --relations data/radish/aces.relations --est odom.txt");
   if (auto code = cli.parse(argc, argv)) return *code;
@@ -257,6 +261,8 @@ int relations(int argc, char** argv) {
   RelationOptions options;
   options.maxTimeDifference = positiveOption(cli, "max-dt", true);
   options.localSpan = positiveOption(cli, "local-span", true);
+  const int worstCount = cli.optionInt("worst");
+  if (worstCount < 0) throw UsageError("--worst must be >= 0, got " + cli.option("worst"));
   const RelationResult r = computeRelationError(est, rel, options);
   std::cout << "relations: " << r.used << " of " << r.relations << " used, " << r.skipped
             << " skipped (no estimated pose within " << options.maxTimeDifference << " s of a stamp)\n";
@@ -274,6 +280,14 @@ int relations(int argc, char** argv) {
     };
     split("local relations (at most ", r.localTranslation, r.localRotation);
     split("loop relations (over ", r.loopTranslation, r.loopRotation);
+  }
+  const std::vector<size_t> worst = worstRelations(r, static_cast<size_t>(worstCount));
+  if (!worst.empty()) std::cout << "worst relations (file line: t1 -> t2, span, error):\n";
+  for (size_t k : worst) {
+    const Relation& w = rel[r.usedRelations[k]];
+    std::cout << "  line " << w.line << ": " << fixed(w.stamp1, 3) << " -> " << fixed(w.stamp2, 3) << ", "
+              << fixed(w.stamp2 - w.stamp1, 1) << " s, " << fixed(r.translationErrors[k], 4) << " m, "
+              << fixed(r.rotationErrors[k], 3) << " deg\n";
   }
   // What the reference itself can resolve: errors near a relation's own are not the estimate's.
   const RelationConsistency c = relationConsistency(rel, options.maxTimeDifference);
