@@ -69,7 +69,7 @@ RelationResult computeRelationError(const Trajectory& estimate,
 // The used relations with the largest translational errors, at most n, largest first (ties by
 // input order): indices into RelationResult::translationErrors / rotationErrors / usedRelations.
 // A mean over a whole log hides where it comes from: on ACES one missed revisit (20 relations
-// between the same two passes, 0.8-0.96 m each) is most of the loop relations' error.
+// between the same two passes, 0.76-0.96 m each) is over half of the loop relations' error.
 std::vector<size_t> worstRelations(const RelationResult& result, size_t n);
 
 // How far a relations file is from agreeing with itself: wherever it holds the three sides of a
