@@ -6,6 +6,7 @@
 #include <string>
 
 #include "LinkRegistration.h"
+#include "rtabmap_core/common/Log.h"
 #include "ScanMerge.h"
 #include "rtabmap_core/memory/Memory.h"
 #include "rtabmap_core/optimizer/Graph.h"
@@ -169,7 +170,15 @@ ProximityResult detectProximityBySpace(memory::Memory& memory, int currentId, co
                                     o.proximityCorrelativeSigmas);
     }
     const double scanRadius = std::max(o.proximityPathFilteringRadius, window);
-    if (distance > scanRadius) continue;
+    if (distance > scanRadius) {
+      // A near miss says why a revisit was not linked (drift kept the robot just out of reach).
+      if (distance <= 2.0 * scanRadius) {
+        RTABMAP_DEBUG("proximity " << currentId << ": path " << path.front() << ".." << path.back() << " not tried, "
+                                   << "its nearest node " << nearest << " is " << distance << " m away (radius "
+                                   << scanRadius << " m, RGBD/ProximityPathFilteringRadius)");
+      }
+      continue;
+    }
     const Transform guess = poses.at(currentId).inverse() * poses.at(nearest);  // current -> nearest
 
     // One-to-one visual registration with the nearest node, when it faces the same way.

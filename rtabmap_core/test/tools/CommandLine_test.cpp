@@ -200,6 +200,26 @@ TEST(CommandLine, DeclarationMistakesAreProgrammingErrors) {
   EXPECT_THROW(cli.flag("undeclared"), std::logic_error);
 }
 
+TEST(CommandLine, VerboseAndDebugSetTheCoreLogLevel) {
+  const LogLevel before = logLevel();
+  for (const auto& [flag, level] : {std::pair<std::string, LogLevel>{"--verbose", LogLevel::kInfo},
+                                    {"--debug", LogLevel::kDebug},
+                                    {"--verbose --debug", LogLevel::kDebug}}) {
+    setLogLevel(LogLevel::kWarning);
+    CommandLine cli = exampleTool();
+    std::vector<std::string> args{"map.db"};
+    std::istringstream words(flag);
+    for (std::string w; words >> w;) args.push_back(w);
+    EXPECT_FALSE(parse(cli, args).exitCode.has_value()) << flag;
+    EXPECT_EQ(logLevel(), level) << flag;
+  }
+  setLogLevel(LogLevel::kWarning);
+  CommandLine quiet = exampleTool();
+  EXPECT_FALSE(parse(quiet, {"map.db"}).exitCode.has_value());
+  EXPECT_EQ(logLevel(), LogLevel::kWarning);
+  setLogLevel(before);
+}
+
 TEST(RunTool, ReturnsTheBodysCodeAndTurnsExceptionsIntoOneLineErrors) {
   std::ostringstream err;
   EXPECT_EQ(runTool("rtabmap-x", [] { return 0; }, err), kExitSuccess);

@@ -90,6 +90,9 @@ CommandLine::CommandLine(std::string toolName, std::string summary)
                  true, std::nullopt, std::nullopt});
   declareOption({"verbose", "", "Also print informational log messages on stderr.", false,
                  std::nullopt, std::nullopt});
+  declareOption({"debug", "", "Also print debug log messages on stderr (e.g. why each proximity or "
+                 "loop closure registration was rejected); implies --verbose.",
+                 false, std::nullopt, std::nullopt});
 }
 
 void CommandLine::declareOption(Option option) {
@@ -270,7 +273,11 @@ std::optional<int> CommandLine::parse(int argc, const char* const argv[], std::o
         << " --params' for the core parameters.\n";
     return kExitUsage;
   }
-  if (flag("verbose")) setLogLevel(LogLevel::kInfo);
+  if (flag("debug")) {
+    setLogLevel(LogLevel::kDebug);
+  } else if (flag("verbose")) {
+    setLogLevel(LogLevel::kInfo);
+  }
   return std::nullopt;
 }
 
