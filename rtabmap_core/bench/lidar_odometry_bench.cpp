@@ -37,6 +37,7 @@
 #include "rtabmap_core/common/Error.h"
 #include "rtabmap_core/eval/DatasetReader.h"
 #include "rtabmap_core/eval/RelationError.h"
+#include "rtabmap_core/eval/TrajectoryError.h"  // percentile
 #include "rtabmap_core/odometry/OdometryS2M.h"
 #include "rtabmap_core/odometry/OdometryS2S.h"
 #include "rtabmap_core/registration/IcpRegistration.h"
@@ -71,12 +72,6 @@ double cpuMs() {
   timespec t;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<size_t>(q * (v.size() - 1) + 0.5)];
 }
 
 std::string findData(const Settings& s, const std::string& entry) {

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "RunTool.h"
+#include "rtabmap_core/eval/TrajectoryError.h"  // percentile
 
 #include <algorithm>
 #include <cstdio>
@@ -33,6 +34,7 @@
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
+using rtabmap::percentile;
 
 namespace {
 
@@ -77,12 +79,6 @@ struct LogFigures {
   int firstOverBudget = -1;  // image where the update first exceeded the budget
   int maxWm = 0, loopClosuresSecondHalf = 0, images = 0;
 };
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
 
 // log.txt: image location loop_id highest_id highest_value wm_size vocabulary_size update_ms
 LogFigures readLog(const fs::path& log, double budgetMs) {

@@ -2,7 +2,8 @@
 // rtabmap-dataset:
 //  - 2D lidar + wheel odometry on the Radish logs (no camera: proximity detection closes the
 //    loops): ACES relation error of the optimised trajectory (goal: mean translation <= 0.035 m,
-//    Cartographer 0.0375) against the raw wheel odometry's; the Intel grid kept as PNG;
+//    Cartographer 0.0375) against the raw wheel odometry's; the Intel grid kept as PNG, and the
+//    Intel trajectory's deviation from the path of the optimised benchmark graph intel.g2o;
 //  - localization on ACES: the second half against a map of the first, local paths against the
 //    global scan map (relation error, localizations, update time);
 //  - RGB-D on 7-Scenes with F2M odometry: ATE with loop closures vs odometry only;
@@ -104,6 +105,25 @@ void lidar(const fs::path& data, const fs::path& work, Json& result) {
       }
       entry["relations_slam"] = slam;
       entry["relations_odom"] = odom;
+    }
+    // No relations for Intel, but a benchmark pose graph of the same run (posegraphs/intel.g2o,
+    // built by others from the same log): at its optimum, its path against ours shows whether
+    // the map's shape (its bowed inner corridors, say) is shared or ours alone.
+    const fs::path graph = data / "posegraphs" / (log + ".g2o");
+    if (fs::exists(graph)) {
+      const fs::path optimum = out / (log + "_reference.g2o");
+      const Json g = runJson("rtabmap-g2o", "--iterations 100 " + graph.string() + " " + optimum.string());
+      const auto deviation = [&](const std::string& est) {
+        return runJson("rtabmap-eval", "path --ref " + optimum.string() + " --est " + (out / est).string());
+      };
+      const Json slam = deviation("frames.tum"), odom = deviation("odom.tum");
+      std::cout << "  " << log << " path deviation from " << graph.filename().string() << "'s optimum (chi2 "
+                << g["final_chi2"] << ", " << slam["reference_length"] << " m): SLAM median "
+                << slam["deviation"]["median"] << " m, p90 " << slam["p90"] << ", p99 " << slam["p99"] << ", max "
+                << slam["deviation"]["max"] << "; wheel odometry median " << odom["deviation"]["median"] << " m"
+                << std::endl;
+      entry["path_slam"] = slam;
+      entry["path_odom"] = odom;
     }
     result[log] = entry;
   }

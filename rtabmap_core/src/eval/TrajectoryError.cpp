@@ -63,6 +63,14 @@ ErrorStats computeErrorStats(const std::vector<double>& values) {
   return s;
 }
 
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  const double clamped = std::min(1.0, std::max(0.0, p));
+  const size_t i = static_cast<size_t>(std::lround(clamped * static_cast<double>(values.size() - 1)));
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(i), values.end());
+  return values[i];
+}
+
 std::vector<std::pair<size_t, size_t>> associateByStamp(const Trajectory& a, const Trajectory& b,
                                                         double maxDifference) {
   const std::vector<size_t> oa = stampOrder(a);

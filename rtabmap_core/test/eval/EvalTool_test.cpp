@@ -179,6 +179,40 @@ TEST(EvalTool, AcesOdometryThroughTheTool) {
   EXPECT_NEAR(r.last["translation"]["mean"].get<double>(), 0.549, 0.549 * 0.01);
 }
 
+TEST(EvalTool, PathAgainstAG2oReferenceWithoutStamps) {
+  // Reference: a g2o graph's vertices along an L (ids, no stamps); estimate: the L every 0.1 m,
+  // moved rigidly, with one position 0.8 m off the path.
+  TempDir dir;
+  writeText(dir.file("ref.g2o"), "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 5 0 0\nVERTEX_SE2 2 5 5 1.5707963\n"
+                                  "EDGE_SE2 0 1 5 0 0 1 0 0 1 0 1\n");
+  const Transform moved(1.0, 2.0, 0.0, 0.0, 0.0, 0.5);
+  Trajectory est;
+  for (int i = 0; i <= 100; ++i) {
+    const double s = 0.1 * i;
+    Transform p = s <= 5.0 ? Transform(s, 0, 0, 0, 0, 0) : Transform(5.0, s - 5.0, 0, 0, 0, M_PI / 2);
+    if (i == 70) p = Transform(5.8, 2.0, 0, 0, 0, M_PI / 2);  // beyond --trim 0.5: out of the fit
+    est.add(10.0 + i, moved * p);
+  }
+  rtabmap::writeTrajectory(dir.file("est.txt"), est, TrajectoryFormat::kTum);
+  ToolRun r = run("path --ref " + dir.file("ref.g2o") + " --est " + dir.file("est.txt") + " --worst 1 --aligned " +
+                  dir.file("aligned.txt") + " --json");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  EXPECT_EQ(r.last["command"], "path");
+  EXPECT_EQ(r.last["reference_poses"], 3);
+  EXPECT_NEAR(r.last["reference_length"].get<double>(), 10.0, 1e-9);
+  EXPECT_EQ(r.last["estimated_poses"], 101);
+  EXPECT_NEAR(r.last["deviation"]["max"].get<double>(), 0.8, 1e-6);
+  EXPECT_LT(r.last["deviation"]["median"].get<double>(), 1e-6);
+  EXPECT_NE(r.out.find("  80.000: 0.8000"), std::string::npos) << r.out;  // stamp 10 + 70
+  const Trajectory aligned = rtabmap::readTrajectory(dir.file("aligned.txt"));
+  ASSERT_EQ(aligned.size(), est.size());
+  EXPECT_NEAR(aligned[100].pose.x(), 5.0, 1e-6);
+  EXPECT_NEAR(aligned[100].pose.y(), 5.0, 1e-6);
+  EXPECT_EQ(run("path --ref " + dir.file("ref.g2o")).exitCode, 2);  // --est missing
+  EXPECT_EQ(run("path --ref " + dir.file("ref.g2o") + " --est " + dir.file("est.txt") + " --init nearest").exitCode, 2);
+  EXPECT_EQ(run("path --ref " + dir.file("ref.g2o") + " --est " + dir.file("est.txt") + " --trim 0").exitCode, 2);
+}
+
 TEST(EvalTool, UsageErrorsExitWithTwo) {
   EXPECT_EQ(run("").exitCode, 2);
   EXPECT_EQ(run("nosuchcommand").exitCode, 2);

@@ -14,16 +14,6 @@
 #include "rtabmap_core/memory/ProcessMemory.h"
 
 namespace rtabmap::tools::dataset {
-namespace {
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t i = static_cast<size_t>(std::round(p * static_cast<double>(v.size() - 1)));
-  return v[std::min(i, v.size() - 1)];
-}
-
-}  // namespace
 
 SlamStage::SlamStage(const RunOptions& run, const SlamRunOptions& options) : run_(run), options_(options) {
   if (options_.database.empty()) throw Error("SLAM needs --output DIR (the map is DIR/rtabmap.db)");

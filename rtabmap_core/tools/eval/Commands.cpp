@@ -1,5 +1,6 @@
 #include "eval/Commands.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include "common/ProgressBar.h"
 #include "rtabmap_core/eval/DatasetReader.h"
 #include "rtabmap_core/eval/LoopClosureEval.h"
+#include "rtabmap_core/eval/PathDeviation.h"
 #include "rtabmap_core/eval/RelationError.h"
 #include "rtabmap_core/eval/Trajectory.h"
 #include "rtabmap_core/eval/TrajectoryError.h"
@@ -321,6 +323,95 @@ int relations(int argc, char** argv) {
   return kExitSuccess;
 }
 
+// The estimated poses of the largest deviations, at least `gap` seconds apart (one per stretch).
+std::vector<size_t> worstStretches(const PathDeviationResult& r, const Trajectory& est, size_t n, double gap) {
+  std::vector<size_t> order(r.deviations.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return r.deviations[a] > r.deviations[b]; });
+  std::vector<size_t> picked;
+  for (size_t k : order) {
+    if (picked.size() >= n) break;
+    const double stamp = est[r.estimateIndices[k]].stamp;
+    const bool apart = std::all_of(picked.begin(), picked.end(), [&](size_t p) {
+      return std::fabs(est[r.estimateIndices[p]].stamp - stamp) >= gap;
+    });
+    if (apart) picked.push_back(k);
+  }
+  return picked;
+}
+
+int path(int argc, char** argv) {
+  CommandLine cli("rtabmap-eval path",
+                  "Deviation of an estimated trajectory from a reference path when poses cannot be associated "
+                  "by stamp (a benchmark pose graph such as intel.g2o, optimised with rtabmap-g2o first): the "
+                  "estimate is aligned rigidly onto the polyline through the reference's positions by ICP "
+                  "(trimmed), then each estimated position's distance to that polyline is its deviation. It sees "
+                  "errors across the path (a bowed corridor, a doubled pass), not along it: a lower bound of the "
+                  "trajectory's error, a check of the map's shape.");
+  cli.addOption("ref", "FILE", "Reference trajectory (its poses in travel order).");
+  cli.addOption("est", "FILE", "Estimated trajectory.");
+  cli.addOption("format", "FORMAT", std::string("Format of both files: ") + kTrajectoryFormats + ".", "auto");
+  cli.addOption("ref-format", "FORMAT", "Format of the reference (overrides --format).");
+  cli.addOption("est-format", "FORMAT", "Format of the estimate (overrides --format).");
+  cli.addOption("init", "METHOD",
+                "Initial alignment: first (the reference's first pose on the estimate's first: both start "
+                "where the robot did) or identity.",
+                "first");
+  cli.addOption("trim", "METRES",
+                "Pairs farther than this (or than the 90th percentile of the distances, whichever is larger) "
+                "are left out of each alignment step.",
+                "0.5");
+  cli.addOption("worst", "N", "Also list the N largest deviations, at least --worst-gap seconds apart.", "0");
+  cli.addOption("worst-gap", "SECONDS", "Least time between two listed deviations.", "10");
+  cli.addOption("aligned", "FILE", "Write the aligned estimate there (TUM).");
+  cli.addNote("Example: rtabmap-g2o ../shared/data/posegraphs/intel.g2o intel_opt.g2o && rtabmap-eval path "
+              "--ref intel_opt.g2o --est intel/frames.tum");
+  if (auto code = cli.parse(argc, argv)) return *code;
+  requireOption(cli, "ref");
+  requireOption(cli, "est");
+  const Trajectory ref = loadTrajectory(cli, "ref", "ref-format");
+  const Trajectory est = loadTrajectory(cli, "est", "est-format");
+  PathDeviationOptions options;
+  const std::string init = cli.option("init");
+  if (init != "first" && init != "identity") throw UsageError("--init must be first or identity, got " + init);
+  options.initFromFirstPoses = init == "first";
+  options.trimDistance = positiveOption(cli, "trim", false);
+  const int worstCount = cli.optionInt("worst");
+  if (worstCount < 0) throw UsageError("--worst must be >= 0, got " + cli.option("worst"));
+  const double gap = positiveOption(cli, "worst-gap", true);
+  const PathDeviationResult r = computePathDeviation(ref, est, options);
+  std::cout << "reference path: " << r.referencePoses << " poses, " << fixed(r.referenceLength, 1) << " m\n";
+  std::cout << "alignment: " << r.iterations << " ICP iterations" << (r.converged ? ", converged" : ", not converged")
+            << "\n";
+  std::cout << "deviation of " << r.estimatedPoses << " estimated positions from the reference path (m): median "
+            << fixed(r.stats.median, 4) << "  mean " << fixed(r.stats.mean, 4) << "  rmse " << fixed(r.stats.rmse, 4)
+            << "  p90 " << fixed(r.p90, 4) << "  p99 " << fixed(r.p99, 4) << "  max " << fixed(r.stats.max, 4)
+            << "\n";
+  const std::vector<size_t> worst = worstStretches(r, est, static_cast<size_t>(worstCount), gap);
+  if (!worst.empty()) std::cout << "largest deviations (estimate stamp: m):\n";
+  for (size_t k : worst) {
+    std::cout << "  " << fixed(est[r.estimateIndices[k]].stamp, 3) << ": " << fixed(r.deviations[k], 4) << "\n";
+  }
+  if (cli.has("aligned")) {
+    writeTrajectory(cli.option("aligned"), applyAlignment(est, r.alignment), TrajectoryFormat::kTum);
+  }
+  if (cli.json()) {
+    printJsonLine({{"command", "path"},
+                   {"ref", cli.option("ref")},
+                   {"est", cli.option("est")},
+                   {"reference_poses", r.referencePoses},
+                   {"reference_length", r.referenceLength},
+                   {"estimated_poses", r.estimatedPoses},
+                   {"iterations", r.iterations},
+                   {"converged", r.converged},
+                   {"deviation", statsJson(r.stats)},
+                   {"p90", r.p90},
+                   {"p99", r.p99}});
+  }
+  return kExitSuccess;
+}
+
 bool isImagePath(const std::string& path) {
   const auto dot = path.rfind('.');
   if (dot == std::string::npos) return false;
@@ -553,6 +644,7 @@ int runKitti(int argc, char** argv) { return wrap("kitti", kitti, argc, argv); }
 int runRelations(int argc, char** argv) { return wrap("relations", relations, argc, argv); }
 int runPr(int argc, char** argv) { return wrap("pr", pr, argc, argv); }
 int runTrajectory(int argc, char** argv) { return wrap("trajectory", trajectory, argc, argv); }
+int runPath(int argc, char** argv) { return wrap("path", path, argc, argv); }
 
 const std::vector<SubCommand>& subCommands() {
   static const std::vector<SubCommand> commands = {
@@ -560,6 +652,7 @@ const std::vector<SubCommand>& subCommands() {
       {"rpe", "relative pose error per frame or per metre", runRpe},
       {"kitti", "KITTI odometry error: translational % and rotational deg/m over 100..800 m", runKitti},
       {"relations", "Kuemmerle et al. 2009 relation error (ACES, Intel, ... relations files)", runRelations},
+      {"path", "deviation from a reference path without stamps (e.g. an optimised benchmark pose graph)", runPath},
       {"pr", "loop-closure precision, recall and recall at 100% precision", runPr},
       {"trajectory", "write a dataset's odometry or ground truth as a trajectory file", runTrajectory},
   };

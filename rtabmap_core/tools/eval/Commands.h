@@ -12,7 +12,7 @@ struct SubCommand {
   int (*run)(int argc, char** argv);
 };
 
-// ate, rpe, kitti, relations, pr, trajectory.
+// ate, rpe, kitti, relations, path, pr, trajectory.
 const std::vector<SubCommand>& subCommands();
 
 int runAte(int argc, char** argv);
@@ -21,5 +21,6 @@ int runKitti(int argc, char** argv);
 int runRelations(int argc, char** argv);
 int runPr(int argc, char** argv);
 int runTrajectory(int argc, char** argv);
+int runPath(int argc, char** argv);
 
 }  // namespace rtabmap::tools::eval

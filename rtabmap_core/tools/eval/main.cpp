@@ -1,6 +1,6 @@
 // rtabmap-eval: scores SLAM and loop-closure results against ground truth (ATE, RPE, KITTI
-// odometry error, Kuemmerle relations, loop-closure precision-recall), and exports a dataset's
-// odometry or ground truth as a trajectory file.
+// odometry error, Kuemmerle relations, deviation from a reference path, loop-closure
+// precision-recall), and exports a dataset's odometry or ground truth as a trajectory file.
 #include <cstring>
 #include <iostream>
 #include <string>

@@ -30,6 +30,9 @@ struct ErrorStats {
 };
 // Statistics of a list of errors (all zero for an empty list).
 ErrorStats computeErrorStats(const std::vector<double>& values);
+// The p-th quantile (p in 0..1) by nearest rank: the sorted values' element round(p (n - 1));
+// 0 for an empty list.
+double percentile(std::vector<double> values, double p);
 
 // Pairs (index in a, index in b) of poses whose stamps differ by at most maxDifference, each
 // pose used once, the closest candidate pairs taken first (as the TUM benchmark's
