@@ -6,8 +6,8 @@
 #include <string>
 
 #include "LinkRegistration.h"
-#include "rtabmap_core/common/Log.h"
 #include "ScanMerge.h"
+#include "rtabmap_core/common/Log.h"
 #include "rtabmap_core/memory/Memory.h"
 #include "rtabmap_core/optimizer/Graph.h"
 #include "rtabmap_core/registration/CorrelativeScanMatcher.h"

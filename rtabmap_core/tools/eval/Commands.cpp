@@ -359,8 +359,8 @@ int path(int argc, char** argv) {
                 "where the robot did) or identity.",
                 "first");
   cli.addOption("trim", "METRES",
-                "Pairs farther than this (or than the 90th percentile of the distances, whichever is larger) "
-                "are left out of each alignment step.",
+                "Pairs farther than this (or than the median distance, whichever is larger) are left out of "
+                "each alignment step: a stretch off by more does not drag the rest.",
                 "0.5");
   cli.addOption("worst", "N", "Also list the N largest deviations, at least --worst-gap seconds apart.", "0");
   cli.addOption("worst-gap", "SECONDS", "Least time between two listed deviations.", "10");

@@ -36,7 +36,9 @@ struct PathDeviationOptions {
   // (both start where the robot did), else the identity.
   bool initFromFirstPoses = true;
   // The reference polyline is sampled every `sampleStep` metres to find the nearest segment;
-  // the distance to that segment (and its two neighbours) is then exact.
+  // the distance to that segment and its two neighbours is computed exactly, so a deviation is
+  // within sampleStep / 2 of the true distance to the polyline (exact unless the nearest sample
+  // lies on a segment two or more away from the nearest one).
   double sampleStep = 0.02;
 };
 
