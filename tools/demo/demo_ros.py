@@ -1,5 +1,6 @@
 """The ROS side of `make demo`: a private ROS master, bag conversion, launching the rtabmap node,
 playing a bag with --clock, and recording what the node publishes while it maps."""
+import json
 import os
 import signal
 import socket
@@ -84,6 +85,19 @@ def run_tool(args, log, timeout):
         with open(log) as f:
             tail = f.read()[-2000:]
         raise RuntimeError("%s failed (exit %d):\n%s" % (args[0], r.returncode, tail))
+
+
+def run_tool_json(args, log, timeout):
+    """run_tool for a tool given --json: its stdout goes to log too, and its last line (the JSON
+    summary) is returned parsed."""
+    with open(log, "a") as out:
+        out.write("$ %s\n" % " ".join(args))
+    r = subprocess.run(["rosrun", PKG] + args, capture_output=True, text=True, timeout=timeout)
+    with open(log, "a") as out:
+        out.write(r.stdout + r.stderr)
+    if r.returncode != 0:
+        raise RuntimeError("%s failed (exit %d):\n%s" % (args[0], r.returncode, r.stderr[-2000:]))
+    return json.loads(r.stdout.strip().splitlines()[-1])
 
 
 class Launch:

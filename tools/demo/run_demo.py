@@ -125,6 +125,16 @@ def run_intel(output, work, rate, time_threshold_ms):
                                            "time_threshold": "%g" % time_threshold_ms}, bag, rate)
     part.export()
     part.summarise(time_threshold_ms)
+    # Intel has no relations, but posegraphs/intel.g2o (../shared/data) is a pose graph others
+    # built from the same log: at its optimum, its path is an independent map of the run, and
+    # rtabmap-eval path measures how far the map's nodes (and the wheel odometry) are from it.
+    graph = find_data("posegraphs/intel.g2o")
+    if graph:
+        reference = part.path("intel_g2o_optimum.g2o")
+        ros.run_tool_json(["rtabmap-g2o", "--json", "--iterations", "100", graph, reference], part.log, 300)
+        for name, est in (("path_slam", "poses.tum"), ("path_odom", "odom.tum")):
+            part.figures[name] = ros.run_tool_json(["rtabmap-eval", "path", "--json", "--ref", reference,
+                                                    "--est", part.path(est)], part.log, 300)
     # The wheel odometry starts where the map starts (the first node is the map's origin).
     report.plot_trajectories(part.path("trajectory.png"), "Intel Research Lab: RTAB-Map vs wheel odometry",
                              [("wheel odometry", report.with_breaks(part.odom), "-"),
@@ -203,6 +213,12 @@ def write_report(output, parts, total_s):
                   "| largest Working Memory | %d nodes |" % f["max_wm"],
                   "| database size | %.1f MB |" % f["database_mb"],
                   "| wall time of this part | %.1f min |" % (f["wall_s"] / 60)]
+        if "path_slam" in f:
+            d, o = f["path_slam"], f["path_odom"]
+            lines.append("| deviation of the nodes from the path of intel.g2o's optimum (an independent map of "
+                         "the log; `rtabmap-eval path`) median / p99 / max | %.3f / %.3f / %.3f m (wheel "
+                         "odometry median %.2f m) |" % (d["deviation"]["median"], d["p99"], d["deviation"]["max"],
+                                                        o["deviation"]["median"]))
         if "ate_rmse" in f:
             lines.append("| ATE RMSE of the nodes vs ground truth (all sessions, one alignment) | %s |" %
                          ("%.3f m over %d nodes" % (f["ate_rmse"], f["ate_poses"]) if f["ate_rmse"] is not None else "n/a"))
