@@ -183,7 +183,14 @@ class OdomNodelets(unittest.TestCase):
         missing = [p.resolved_name for p in pubs if p.get_num_connections() == 0]
         self.assertFalse(missing, f"odometry nodes did not subscribe (not loaded?): {missing}")
 
-        for i in range(10):
+        # 10 frames at 10 Hz, and up to 4 more while some node has not yet updated 8 times: a
+        # node busy with its previous frame drops the next (queue_size), which on a loaded machine
+        # is not a failure. The stamps stay below the bad input's below (101.5).
+        def enough():
+            return all(len(self.got[(ns, k)]) >= 8 for ns in self.namespaces for k in ("icp", "rgbdi"))
+        for i in range(14):
+            if i >= 10 and enough():
+                break
             t = rospy.Time(100 + i * 0.1)
             for ns in self.namespaces:
                 self.send(ns, t, value=50)
