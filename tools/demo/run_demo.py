@@ -79,11 +79,7 @@ class Part:
         """Grid (PGM + YAML + PNG) and optimised node poses from the database, as a user would."""
         ros.run_tool(["rtabmap-export", "--json", "--grid", self.path("grid.pgm"), "--poses",
                       self.path("poses.tum"), self.database], self.log, timeout=900)
-        info = subprocess.run(["rosrun", "rtabmap_ros", "rtabmap-info", "--json", self.database],
-                              capture_output=True, text=True, timeout=300)
-        if info.returncode != 0:
-            raise RuntimeError("rtabmap-info failed: " + info.stderr)
-        self.figures["database"] = json.loads(info.stdout.strip().splitlines()[-1])
+        self.figures["database"] = ros.run_tool_json(["rtabmap-info", "--json", self.database], self.log, 300)
         self.poses = report.read_tum(self.path("poses.tum"))
         report.write_tum(self.path("odom.tum"), self.odom)
         if self.truth:
